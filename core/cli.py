@@ -1,0 +1,192 @@
+"""The ``spectral-gi`` command line.
+
+    spectral-gi render [SCENE] [--spp N] [--width W --height H] [--max-depth D]
+                       [--seed S] [--threads T] [--out FILE.exr] [--exposure EV]
+    spectral-gi save-default-scene OUT.json
+
+Without SCENE it renders the built-in Cornell box. Bad input prints one line
+``spectral-gi: error: ...`` and exits with status 2. Ctrl-C stops after the current
+pass and writes what was rendered so far (exit status 130).
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import signal
+import sys
+import time
+from pathlib import Path
+
+EXIT_OK = 0
+EXIT_ERROR = 1
+EXIT_USAGE = 2
+EXIT_INTERRUPTED = 130
+
+
+class _Progress:
+    """A one-line progress bar on stderr with samples per second."""
+
+    def __init__(self, stream=sys.stderr, width=30):
+        self.stream = stream
+        self.width = width
+        self.tty = stream.isatty()
+        self.last = 0.0
+
+    def status(self, text):
+        self.stream.write(f"{text}\n")
+        self.stream.flush()
+
+    def __call__(self, done, total, rate):
+        now = time.monotonic()
+        if not self.tty and done < total and now - self.last < 2.0:
+            return
+        self.last = now
+        frac = done / total if total else 1.0
+        filled = int(round(frac * self.width))
+        bar = "#" * filled + "-" * (self.width - filled)
+        line = f"[{bar}] {done}/{total} spp  {rate / 1e6:6.2f} M samples/s"
+        self.stream.write(("\r" if self.tty else "") + line + ("" if self.tty else "\n"))
+        if self.tty and done >= total:
+            self.stream.write("\n")
+        self.stream.flush()
+
+
+def _positive_int(text):
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if v < 1:
+        raise argparse.ArgumentTypeError(f"expected a positive number, got {v}")
+    return v
+
+
+def _non_negative_int(text):
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if v < 0:
+        raise argparse.ArgumentTypeError(f"expected zero or more, got {v}")
+    return v
+
+
+def _parser():
+    p = argparse.ArgumentParser(prog="spectral-gi", description="Spectral path tracer with photometric output.")
+    sub = p.add_subparsers(dest="command", required=True)
+    r = sub.add_parser("render", help="render a scene file (default: the Cornell box) to OpenEXR + PNG")
+    r.add_argument("scene", nargs="?", help="scene file (.json with its .npz beside it) or scene folder")
+    r.add_argument("--spp", type=_positive_int, help="samples per pixel (default: the scene's, 64 for the Cornell box)")
+    r.add_argument("--width", type=_positive_int, help="image width in pixels")
+    r.add_argument("--height", type=_positive_int, help="image height in pixels")
+    r.add_argument("--max-depth", type=_positive_int, help="maximum number of bounces")
+    r.add_argument("--seed", type=_non_negative_int, help="random seed")
+    r.add_argument("--threads", type=_non_negative_int, default=0, help="worker threads (0: all cores)")
+    r.add_argument("--out", help="output OpenEXR file (default: cornell.exr or <scene>.exr); "
+                                 "the sRGB PNG preview is written beside it")
+    r.add_argument("--exposure", type=float, default=0.0, help="exposure of the PNG preview in stops (default 0)")
+    s = sub.add_parser("save-default-scene", help="write the built-in Cornell box as a scene file")
+    s.add_argument("out", help="output scene file (.json; the .npz is written beside it)")
+    return p
+
+
+def _fail(msg, code=EXIT_USAGE):
+    sys.stderr.write(f"spectral-gi: error: {msg}\n")
+    return code
+
+
+def _render(args):
+    from . import constants as C
+    from .film import develop
+    from .io.exr import write_render
+    from .io.png import write_png
+    from .render import render
+    from .scene import SceneError, load, validate
+    from .scenes import cornell_box
+
+    if args.scene:
+        scene = load(args.scene)
+        default_out = Path(args.scene).with_suffix("").name + ".exr" if Path(args.scene).suffix else \
+            Path(args.scene).name + ".exr"
+    else:
+        scene = cornell_box()
+        default_out = "cornell.exr"
+    cam = scene.camera
+    if args.width or args.height:
+        if args.width and args.height:
+            cam.width, cam.height = args.width, args.height
+        elif args.width:  # keep the aspect ratio
+            cam.height = max(1, round(cam.height * args.width / cam.width))
+            cam.width = args.width
+        else:
+            cam.width = max(1, round(cam.width * args.height / cam.height))
+            cam.height = args.height
+    st = scene.settings
+    if args.spp:
+        st.spp = args.spp
+    if args.max_depth:
+        st.max_depth = args.max_depth
+    if args.seed is not None:
+        st.seed = args.seed
+    validate(scene)
+    out = Path(args.out or default_out)
+    if out.suffix.lower() != ".exr":
+        raise SceneError(f"--out: expected a .exr file name, got {out}")
+    png = out.with_suffix(".png")
+
+    stop = {"requested": False}
+
+    def on_sigint(signum, frame):
+        if stop["requested"]:  # second Ctrl-C: leave at once
+            os._exit(EXIT_INTERRUPTED)
+        stop["requested"] = True
+        sys.stderr.write("\nInterrupted: finishing the current pass and writing what was rendered "
+                         "(Ctrl-C again to quit at once)\n")
+
+    old = signal.signal(signal.SIGINT, on_sigint)
+    bar = _Progress()
+    try:
+        bar.status(f"Rendering {scene.metadata.get('name', args.scene or 'scene')}: {cam.width}x{cam.height}, "
+                   f"{st.spp} spp, max depth {st.max_depth}, {scene.n_triangles} triangles")
+        film, stats = render(scene, threads=args.threads or None, progress=bar, status=bar.status,
+                             should_cancel=lambda: stop["requested"])
+    finally:
+        signal.signal(signal.SIGINT, old)
+    dev = develop(film.sums)
+    attrs = {"spectralgi.spp": str(stats.spp), "spectralgi.seed": str(st.seed),
+             "spectralgi.maxDepth": str(st.max_depth)}
+    write_render(out, dev, attrs)
+    write_png(png, dev.rgb, args.exposure)
+    sys.stderr.write(f"{stats.spp} spp in {stats.seconds:.2f} s ({stats.samples_per_second / 1e6:.2f} M samples/s"
+                     f"; BVH {stats.build_seconds:.2f} s"
+                     + (f", kernel compile {stats.compile_seconds:.1f} s" if stats.compile_seconds > 0.5 else "")
+                     + f"); mean luminance {float(dev.luminance.mean()):.4g} cd/m²\n")
+    print(f"wrote {out} and {png}")
+    if stats.cancelled:
+        sys.stderr.write(f"stopped early at {stats.spp} of {st.spp} spp\n")
+        return EXIT_INTERRUPTED
+    return EXIT_OK
+
+
+def main(argv=None):
+    args = _parser().parse_args(argv)
+    from .scene import SceneError
+
+    try:
+        if args.command == "render":
+            return _render(args)
+        if args.command == "save-default-scene":
+            from .scene import save
+            from .scenes import cornell_box
+            path = save(cornell_box(), args.out)
+            print(f"wrote {path} and {path.with_suffix('.npz')}")
+            return EXIT_OK
+    except SceneError as e:
+        return _fail(str(e))
+    except (OSError, ValueError) as e:
+        return _fail(str(e), EXIT_ERROR if isinstance(e, OSError) else EXIT_USAGE)
+    return EXIT_USAGE
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,77 @@
+"""OpenEXR output (OpenEXR 3.x Python bindings), written atomically.
+
+Channels of a render:
+* ``R, G, B``            linear Rec.709 (Blender's scene-linear); RGB (1,1,1) is 683 cd/m²
+                         (the standard ``whiteLuminance`` attribute says so)
+* ``XYZ.X, XYZ.Y, XYZ.Z`` CIE 1931 XYZ on the same scale (Y = 1 is 683 cd/m²)
+* ``Luminance.Y``        absolute luminance, cd/m²
+* ``Variance.Y``         variance of the pixel's mean luminance, (cd/m²)²
+"""
+import numpy as np
+
+from .atomic import atomic_path
+
+try:  # OpenEXR is a declared dependency; import lazily so core imports without it.
+    import OpenEXR as _exr
+except ImportError:  # pragma: no cover
+    _exr = None
+
+
+def _require():
+    if _exr is None:
+        raise RuntimeError("the OpenEXR package is not installed (pip install OpenEXR)")
+    return _exr
+
+
+def write_channels(path, channels, attributes=None):
+    """Write float32 channels ``{name: (H, W) array}`` to ``path`` atomically."""
+    exr = _require()
+    chans = {}
+    shape = None
+    for name, a in channels.items():
+        arr = np.ascontiguousarray(a, dtype=np.float32)  # a strided view would be written wrong
+        if arr.ndim != 2:
+            raise ValueError(f"channel {name!r}: expected a 2-D array, got {arr.shape}")
+        if shape is None:
+            shape = arr.shape
+        elif arr.shape != shape:
+            raise ValueError(f"channel {name!r}: shape {arr.shape} differs from {shape}")
+        chans[name] = arr
+    header = {"compression": exr.ZIP_COMPRESSION, "type": exr.scanlineimage}
+    for k, v in (attributes or {}).items():
+        header[k] = v
+    with atomic_path(path) as tmp:
+        with exr.File(header, chans) as f:
+            f.write(str(tmp))
+    return path
+
+
+def read_channels(path):
+    """Read every channel of a single-part EXR: ({name: (H, W) float32}, header dict)."""
+    exr = _require()
+    with exr.File(str(path), separate_channels=True) as f:
+        header = dict(f.header())
+        chans = {name: np.array(ch.pixels) for name, ch in f.channels().items()}
+    return chans, header
+
+
+def write_render(path, developed, attributes=None):
+    """Write a developed film (see core.film.Developed) with the channels listed above."""
+    from .. import constants as C
+
+    rgb = developed.rgb
+    xyz = developed.XYZ
+    var = np.where(np.isfinite(developed.variance), developed.variance, -1.0)
+    channels = {
+        "R": rgb[..., 0], "G": rgb[..., 1], "B": rgb[..., 2],
+        "XYZ.X": xyz[..., 0], "XYZ.Y": xyz[..., 1], "XYZ.Z": xyz[..., 2],
+        "Luminance.Y": developed.luminance,
+        "Variance.Y": var,
+    }
+    attrs = {
+        "whiteLuminance": float(C.K_M),
+        "chromaticities": (0.64, 0.33, 0.30, 0.60, 0.15, 0.06, 0.3127, 0.3290),
+        "software": "spectral-gi",
+    }
+    attrs.update(attributes or {})
+    return write_channels(path, channels, attrs)

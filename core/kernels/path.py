@@ -1,0 +1,381 @@
+"""The spectral path tracer kernel.
+
+Per path: N_WAVELENGTHS wavelengths (a hero and equally offset companions in the
+primary sample space of the visible-wavelength density), next-event estimation on
+emitters (emissive triangles and analytic area lights, chosen in proportion to their
+power) combined with cosine-weighted BSDF sampling by the power heuristic (compendium
+items 27–28, 51–52), and Russian roulette. Radiance becomes CIE XYZ per sample and is
+summed into the film: X, Y, Z, sample count, Y².
+
+Every random number is a pure function of (seed, pixel, sample, dimension), and each
+pixel's samples are summed in sample order, so the film is bit-identical whatever the
+number of threads or the split of samples into passes.
+"""
+import math
+
+import numpy as np
+from numba import prange
+
+from .. import constants as C
+from ..jit import inline, kernel
+from .bvh import STACK_SIZE, closest_hit, occluded
+from .rng import path_key, uniform
+
+NW = C.N_WAVELENGTHS
+LMIN = C.LAMBDA_MIN
+LMAX = C.LAMBDA_MAX
+LSTEP = C.LAMBDA_STEP
+NL = C.N_LAMBDA
+INV_PI = 1.0 / math.pi
+
+# Visible-wavelength density p(λ) ∝ sech²(B (λ - λc)) on [LMIN, LMAX]; the constants
+# are those of pbrt-v4's SampleVisibleWavelengths (Pharr, Jakob, Humphreys 2023, §4.6.5),
+# chosen there to follow the CIE Y curve with heavier tails.
+VIS_B = 0.0072
+VIS_C = 538.0
+VIS_TA = math.tanh(VIS_B * (LMIN - VIS_C))
+VIS_TB = math.tanh(VIS_B * (LMAX - VIS_C))
+
+# Ray offset against self-intersection: relative to the scene's coordinate magnitude.
+EPS_REL = 1e-5
+
+# Camera parameter vector layout (float64[20]).
+CAM_R = 0  # 9 entries: camera-to-world rotation, row major
+CAM_T = 9  # 3 entries: camera position
+CAM_HALF_W = 12
+CAM_HALF_H = 13
+CAM_OFF_X = 14
+CAM_OFF_Y = 15
+CAM_SIZE = 16
+
+
+@inline
+def sample_visible(u):
+    t = VIS_TA + u * (VIS_TB - VIS_TA)
+    lam = VIS_C + math.atanh(t) / VIS_B
+    return min(max(lam, LMIN), LMAX)
+
+
+@inline
+def visible_pdf(lam):
+    c = math.cosh(VIS_B * (lam - VIS_C))
+    return VIS_B / ((VIS_TB - VIS_TA) * c * c)
+
+
+@inline
+def lookup(table, row, lam):
+    x = (lam - LMIN) / LSTEP
+    i = int(x)
+    if i < 0:
+        return table[row, 0]
+    if i >= NL - 1:
+        return table[row, NL - 1]
+    f = x - i
+    return table[row, i] * (1.0 - f) + table[row, i + 1] * f
+
+
+@inline
+def lookup_cmf(cmf, k, lam):
+    x = (lam - LMIN) / LSTEP
+    i = int(x)
+    if i < 0 or i >= NL - 1:
+        return 0.0
+    f = x - i
+    return cmf[i, k] * (1.0 - f) + cmf[i + 1, k] * f
+
+
+@inline
+def power_heuristic(pa, pb):
+    a = pa * pa
+    b = pb * pb
+    if a + b <= 0.0:
+        return 0.0
+    return a / (a + b)
+
+
+@inline
+def intersect_light(kind, px, py, pz, ux, uy, uz, vx, vy, vz, nx, ny, nz, ox, oy, oz, dx, dy, dz, tmax):
+    """Ray against a rectangle (|a|,|b| ≤ 1) or ellipse (a² + b² ≤ 1) spanned by half-axes u, v.
+
+    Returns (t, cos) with cos = dot(d, n); t = inf on a miss.
+    """
+    den = dx * nx + dy * ny + dz * nz
+    if den == 0.0:
+        return np.inf, 0.0
+    t = ((px - ox) * nx + (py - oy) * ny + (pz - oz) * nz) / den
+    if t <= 0.0 or t >= tmax:
+        return np.inf, 0.0
+    hx = ox + t * dx - px
+    hy = oy + t * dy - py
+    hz = oz + t * dz - pz
+    uu = ux * ux + uy * uy + uz * uz
+    vv = vx * vx + vy * vy + vz * vz
+    a = (hx * ux + hy * uy + hz * uz) / uu
+    b = (hx * vx + hy * vy + hz * vz) / vv
+    if kind == C.LIGHT_RECT:
+        if abs(a) > 1.0 or abs(b) > 1.0:
+            return np.inf, 0.0
+    else:
+        if a * a + b * b > 1.0:
+            return np.inf, 0.0
+    return t, den
+
+
+@kernel(parallel=True)
+def render_pass(film, s0, s1, seed, max_depth, rr_depth, scene_scale, cam,
+                bmin, bmax, child, count, axis, v0, e1, e2, tri_mat, tri_emitter,
+                mat_refl, mat_emis, mat_emis_scale, mat_emis_two,
+                spec, cmf,
+                light_kind, light_geo, light_spec, light_scale, light_two_sided, light_visible,
+                emit_cdf, emit_prob, emit_tri, emit_light,
+                world_spec, world_scale):
+    """Add samples s0 .. s1-1 of every pixel to ``film`` (H, W, 5) float64.
+
+    light_geo: float64 (L, 13): centre(3), half-axis u(3), half-axis v(3), unit normal(3), area.
+    emit_*: the emitter distribution over emissive triangles (emit_tri ≥ 0, leaf order)
+    and analytic lights (emit_light ≥ 0); emit_cdf has E + 1 entries.
+    """
+    height = film.shape[0]
+    width = film.shape[1]
+    n_emit = emit_prob.shape[0]
+    n_lights = light_kind.shape[0]
+    eps = EPS_REL * scene_scale
+    for y in prange(height):
+        stack = np.empty(STACK_SIZE, np.int32)
+        lam = np.empty(NW)
+        pdf_lam = np.empty(NW)
+        beta = np.empty(NW)
+        rad = np.empty(NW)
+        rho = np.empty(NW)
+        for x in range(width):
+            pix = y * width + x
+            for s in range(s0, s1):
+                key = path_key(seed, pix, s)
+                u0 = uniform(key, 0)
+                for i in range(NW):
+                    up = u0 + i / NW
+                    if up >= 1.0:
+                        up -= 1.0
+                    lam[i] = sample_visible(up)
+                    pdf_lam[i] = visible_pdf(lam[i])
+                    beta[i] = 1.0
+                    rad[i] = 0.0
+                # camera ray
+                sx = ((x + uniform(key, 1)) / width * 2.0 - 1.0) * cam[CAM_HALF_W] + cam[CAM_OFF_X]
+                sy = (1.0 - (y + uniform(key, 2)) / height * 2.0) * cam[CAM_HALF_H] + cam[CAM_OFF_Y]
+                dx = cam[0] * sx + cam[1] * sy - cam[2]
+                dy = cam[3] * sx + cam[4] * sy - cam[5]
+                dz = cam[6] * sx + cam[7] * sy - cam[8]
+                inv_len = 1.0 / math.sqrt(dx * dx + dy * dy + dz * dz)
+                dx *= inv_len
+                dy *= inv_len
+                dz *= inv_len
+                ox = cam[CAM_T]
+                oy = cam[CAM_T + 1]
+                oz = cam[CAM_T + 2]
+                dim = 3
+                depth = 0
+                prev_pdf = 0.0
+                while True:
+                    t, prim, bu, bv = closest_hit(ox, oy, oz, dx, dy, dz, 0.0, np.inf,
+                                                  bmin, bmax, child, count, axis, v0, e1, e2, stack)
+                    # analytic area lights: hit for their emission, never occluders (as in Cycles)
+                    for li in range(n_lights):
+                        if depth == 0 and light_visible[li] == 0:
+                            continue
+                        tl, cl = intersect_light(
+                            light_kind[li], light_geo[li, 0], light_geo[li, 1], light_geo[li, 2],
+                            light_geo[li, 3], light_geo[li, 4], light_geo[li, 5],
+                            light_geo[li, 6], light_geo[li, 7], light_geo[li, 8],
+                            light_geo[li, 9], light_geo[li, 10], light_geo[li, 11],
+                            ox, oy, oz, dx, dy, dz, t)
+                        if tl == np.inf:
+                            continue
+                        if cl > 0.0 and light_two_sided[li] == 0:
+                            continue
+                        w = 1.0
+                        if depth > 0:
+                            e_idx = n_emit - n_lights + li
+                            pl = emit_prob[e_idx] * tl * tl / (light_geo[li, 12] * abs(cl))
+                            w = power_heuristic(prev_pdf, pl)
+                        for i in range(NW):
+                            rad[i] += beta[i] * w * light_scale[li] * lookup(spec, light_spec[li], lam[i])
+                    if prim < 0:
+                        if world_spec >= 0:
+                            for i in range(NW):
+                                rad[i] += beta[i] * world_scale * lookup(spec, world_spec, lam[i])
+                        break
+                    px = ox + t * dx
+                    py = oy + t * dy
+                    pz = oz + t * dz
+                    ax_ = e1[prim, 0]; ay_ = e1[prim, 1]; az_ = e1[prim, 2]
+                    bx_ = e2[prim, 0]; by_ = e2[prim, 1]; bz_ = e2[prim, 2]
+                    nx = ay_ * bz_ - az_ * by_
+                    ny = az_ * bx_ - ax_ * bz_
+                    nz = ax_ * by_ - ay_ * bx_
+                    nlen = math.sqrt(nx * nx + ny * ny + nz * nz)
+                    if nlen == 0.0:
+                        break
+                    area = 0.5 * nlen
+                    nx /= nlen
+                    ny /= nlen
+                    nz /= nlen
+                    cos_i = -(nx * dx + ny * dy + nz * dz)
+                    m = tri_mat[prim]
+                    # emission: both sides (Blender's Emission shader) or the front side only
+                    if mat_emis[m] >= 0 and (cos_i > 0.0 or (cos_i < 0.0 and mat_emis_two[m] != 0)):
+                        w = 1.0
+                        if depth > 0:
+                            pl = emit_prob[tri_emitter[prim]] * t * t / (area * abs(cos_i))
+                            w = power_heuristic(prev_pdf, pl)
+                        for i in range(NW):
+                            rad[i] += beta[i] * w * mat_emis_scale[m] * lookup(spec, mat_emis[m], lam[i])
+                    if depth >= max_depth or mat_refl[m] < 0:
+                        break
+                    if cos_i < 0.0:
+                        nx = -nx
+                        ny = -ny
+                        nz = -nz
+                    for i in range(NW):
+                        rho[i] = lookup(spec, mat_refl[m], lam[i])
+                    sox = px + eps * nx
+                    soy = py + eps * ny
+                    soz = pz + eps * nz
+                    # next-event estimation
+                    if n_emit > 0:
+                        ue = uniform(key, dim)
+                        ua = uniform(key, dim + 1)
+                        ub = uniform(key, dim + 2)
+                        # binary search in the cdf
+                        lo = 0
+                        hi = n_emit - 1
+                        while lo < hi:
+                            mid = (lo + hi) // 2
+                            if emit_cdf[mid + 1] <= ue:
+                                lo = mid + 1
+                            else:
+                                hi = mid
+                        ei = lo
+                        ok = True
+                        if emit_tri[ei] >= 0:
+                            tp = emit_tri[ei]
+                            su = math.sqrt(ua)
+                            b1 = 1.0 - su
+                            b2 = ub * su
+                            qx = v0[tp, 0] + b1 * e1[tp, 0] + b2 * e2[tp, 0]
+                            qy = v0[tp, 1] + b1 * e1[tp, 1] + b2 * e2[tp, 1]
+                            qz = v0[tp, 2] + b1 * e1[tp, 2] + b2 * e2[tp, 2]
+                            lnx = e1[tp, 1] * e2[tp, 2] - e1[tp, 2] * e2[tp, 1]
+                            lny = e1[tp, 2] * e2[tp, 0] - e1[tp, 0] * e2[tp, 2]
+                            lnz = e1[tp, 0] * e2[tp, 1] - e1[tp, 1] * e2[tp, 0]
+                            ll = math.sqrt(lnx * lnx + lny * lny + lnz * lnz)
+                            if ll == 0.0:
+                                ok = False
+                                ll = 1.0
+                            l_area = 0.5 * ll
+                            lnx /= ll
+                            lny /= ll
+                            lnz /= ll
+                            lm = tri_mat[tp]
+                            l_two = mat_emis_two[lm] != 0
+                            l_row = mat_emis[lm]
+                            l_scale = mat_emis_scale[lm]
+                        else:
+                            li = emit_light[ei]
+                            if light_kind[li] == C.LIGHT_RECT:
+                                a = 2.0 * ua - 1.0
+                                b = 2.0 * ub - 1.0
+                            else:
+                                r = math.sqrt(ua)
+                                ph = 2.0 * math.pi * ub
+                                a = r * math.cos(ph)
+                                b = r * math.sin(ph)
+                            qx = light_geo[li, 0] + a * light_geo[li, 3] + b * light_geo[li, 6]
+                            qy = light_geo[li, 1] + a * light_geo[li, 4] + b * light_geo[li, 7]
+                            qz = light_geo[li, 2] + a * light_geo[li, 5] + b * light_geo[li, 8]
+                            lnx = light_geo[li, 9]
+                            lny = light_geo[li, 10]
+                            lnz = light_geo[li, 11]
+                            l_area = light_geo[li, 12]
+                            l_two = light_two_sided[li] != 0
+                            l_row = light_spec[li]
+                            l_scale = light_scale[li]
+                        wx = qx - px
+                        wy = qy - py
+                        wz = qz - pz
+                        d2 = wx * wx + wy * wy + wz * wz
+                        dist = math.sqrt(d2)
+                        if dist > 0.0 and ok:
+                            wx /= dist
+                            wy /= dist
+                            wz /= dist
+                            cos_x = nx * wx + ny * wy + nz * wz
+                            cos_y = -(lnx * wx + lny * wy + lnz * wz)
+                            if cos_y < 0.0 and l_two:
+                                cos_y = -cos_y
+                            if cos_x > 0.0 and cos_y > 0.0:
+                                pl = emit_prob[ei] * d2 / (l_area * cos_y)
+                                if not occluded(sox, soy, soz, wx, wy, wz, 0.0, dist * (1.0 - 1e-4) - eps,
+                                                bmin, bmax, child, count, v0, e1, e2, stack):
+                                    w = power_heuristic(pl, cos_x * INV_PI)
+                                    g = w * cos_x * INV_PI * l_scale / pl
+                                    for i in range(NW):
+                                        rad[i] += beta[i] * rho[i] * g * lookup(spec, l_row, lam[i])
+                    dim += 3
+                    # BSDF sampling: cosine-weighted hemisphere around n (Lambert, item 47)
+                    u1 = uniform(key, dim)
+                    u2 = uniform(key, dim + 1)
+                    dim += 2
+                    r = math.sqrt(u1)
+                    ph = 2.0 * math.pi * u2
+                    lx = r * math.cos(ph)
+                    ly = r * math.sin(ph)
+                    lz = math.sqrt(max(0.0, 1.0 - u1))
+                    # orthonormal basis (Duff et al. 2017)
+                    sgn = 1.0 if nz >= 0.0 else -1.0
+                    aa = -1.0 / (sgn + nz)
+                    bb = nx * ny * aa
+                    tx = 1.0 + sgn * nx * nx * aa
+                    ty = sgn * bb
+                    tz = -sgn * nx
+                    cx = bb
+                    cy = sgn + ny * ny * aa
+                    cz = -ny
+                    dx = lx * tx + ly * cx + lz * nx
+                    dy = lx * ty + ly * cy + lz * ny
+                    dz = lx * tz + ly * cz + lz * nz
+                    if lz <= 0.0:
+                        break
+                    prev_pdf = lz * INV_PI
+                    q = 0.0
+                    for i in range(NW):
+                        beta[i] *= rho[i]
+                        q = max(q, beta[i])
+                    ox = sox
+                    oy = soy
+                    oz = soz
+                    depth += 1
+                    if q <= 0.0:
+                        break
+                    if depth >= rr_depth:
+                        if q < 1.0:
+                            if uniform(key, dim) >= q:
+                                break
+                            for i in range(NW):
+                                beta[i] /= q
+                        dim += 1
+                # to XYZ
+                X = 0.0
+                Y = 0.0
+                Z = 0.0
+                for i in range(NW):
+                    if pdf_lam[i] > 0.0:
+                        v = rad[i] / (pdf_lam[i] * NW)
+                        X += v * lookup_cmf(cmf, 0, lam[i])
+                        Y += v * lookup_cmf(cmf, 1, lam[i])
+                        Z += v * lookup_cmf(cmf, 2, lam[i])
+                film[y, x, 0] += X
+                film[y, x, 1] += Y
+                film[y, x, 2] += Z
+                film[y, x, 3] += 1.0
+                film[y, x, 4] += Y * Y

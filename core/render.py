@@ -1,0 +1,307 @@
+"""Render a scene: prepare arrays, build the BVH, run passes of the path tracer.
+
+``render(scene, progress=, should_cancel=, on_pass=)`` is what the CLI and the
+Blender add-on call. Progress and cancellation cross as plain callables. Parallel
+kernels are launched under one process-wide lock: numba's threading layers abort the
+process when two threads launch parallel kernels at once, which would take Blender
+down with them.
+"""
+from __future__ import annotations
+
+import threading
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import constants as C
+from . import presets
+from .accel import build as build_bvh
+from .film import Film
+from .jit import set_threads
+from .scene import Scene, SceneError, validate
+from .spectra import moments
+
+KERNEL_LOCK = threading.Lock()
+
+# Target wall time of one pass, so progress and cancel stay live (architecture: 0.1–0.5 s).
+PASS_SECONDS = 0.3
+
+
+@dataclass
+class Prepared:
+    """Everything a render kernel reads, as contiguous arrays."""
+
+    scene: Scene
+    bvh: object
+    tri_mat: np.ndarray
+    tri_emitter: np.ndarray
+    mat_refl: np.ndarray
+    mat_emis: np.ndarray
+    mat_emis_scale: np.ndarray
+    mat_emis_two: np.ndarray
+    spec: np.ndarray
+    cmf: np.ndarray
+    light_kind: np.ndarray
+    light_geo: np.ndarray
+    light_spec: np.ndarray
+    light_scale: np.ndarray
+    light_two_sided: np.ndarray
+    light_visible: np.ndarray
+    emit_cdf: np.ndarray
+    emit_prob: np.ndarray
+    emit_tri: np.ndarray
+    emit_light: np.ndarray
+    world_spec: int
+    world_scale: float
+    cam: np.ndarray
+    scene_scale: float
+    build_seconds: float
+
+
+def cmf_table(observer="1931"):
+    """CIE colour-matching functions on the renderer's grid: float32 (N_LAMBDA, 3)."""
+    wl, xyz = presets.cmfs(observer)
+    grid = moments.grid()
+    return np.ascontiguousarray(np.stack([np.interp(grid, wl, xyz[:, k], left=0, right=0) for k in range(3)],
+                                         axis=1), np.float32)
+
+
+def camera_vector(cam):
+    """Pack a Camera into the float64[16] the kernel reads (Blender's sensor-fit rules)."""
+    w, h = float(cam.width), float(cam.height)
+    fit = cam.sensor_fit
+    if fit == C.FIT_AUTO:
+        fit = C.FIT_HORIZONTAL if w >= h else C.FIT_VERTICAL
+        size = cam.sensor_width_mm  # AUTO: sensor width applies to the larger dimension
+    else:
+        size = cam.sensor_width_mm if fit == C.FIT_HORIZONTAL else cam.sensor_height_mm
+    half = 0.5 * size / cam.lens_mm
+    if fit == C.FIT_HORIZONTAL:
+        half_w, half_h = half, half * h / w
+    else:
+        half_w, half_h = half * w / h, half
+    extent = 2.0 * max(half_w, half_h)  # Blender's shift is in units of the larger dimension
+    m = np.asarray(cam.to_world, dtype=np.float64)
+    rot = m[:3, :3] / np.linalg.norm(m[:3, :3], axis=0)[None, :]
+    v = np.zeros(16)
+    v[0:9] = rot.reshape(-1)
+    v[9:12] = m[:3, 3]
+    v[12] = half_w
+    v[13] = half_h
+    v[14] = cam.shift_x * extent
+    v[15] = cam.shift_y * extent
+    return v
+
+
+def _luminance_scale(shape_row, cmf, luminance, what):
+    """Factor turning a spectrum shape into spectral radiance W/(m² sr nm) of ``luminance`` cd/m²."""
+    y = float(np.sum(shape_row.astype(np.float64) * cmf[:, 1]) * C.LAMBDA_STEP)
+    if luminance == 0.0:
+        return 0.0
+    if not y > 0.0:
+        raise SceneError(f"{what}: its spectrum has no visible power, so a luminance cannot be set")
+    return luminance / (C.K_M * y)
+
+
+def prepare(scene: Scene) -> Prepared:
+    validate(scene)
+    t0 = time.perf_counter()
+    cmf = cmf_table()
+    spec = moments.tabulate(scene.spectra.coeffs, scene.spectra.kind) if len(scene.spectra) else \
+        np.zeros((1, C.N_LAMBDA), np.float32)
+
+    # concatenate meshes
+    v0s, v1s, v2s, mats = [], [], [], []
+    for mesh in scene.meshes:
+        p = mesh.positions.astype(np.float64)
+        idx = mesh.indices
+        v0s.append(p[idx[:, 0]])
+        v1s.append(p[idx[:, 1]])
+        v2s.append(p[idx[:, 2]])
+        mats.append(mesh.material)
+    if v0s:
+        v0 = np.concatenate(v0s)
+        v1 = np.concatenate(v1s)
+        v2 = np.concatenate(v2s)
+        tri_mat_orig = np.concatenate(mats).astype(np.int32)
+    else:
+        v0 = v1 = v2 = np.zeros((0, 3))
+        tri_mat_orig = np.zeros(0, np.int32)
+    bvh = build_bvh(v0, v1, v2)
+    tri_mat = np.ascontiguousarray(tri_mat_orig[bvh.prims], np.int32)
+
+    n_mat = max(1, len(scene.materials))
+    mat_refl = np.full(n_mat, -1, np.int32)
+    mat_emis = np.full(n_mat, -1, np.int32)
+    mat_emis_scale = np.zeros(n_mat)
+    mat_emis_two = np.ones(n_mat, np.int32)
+    for i, m in enumerate(scene.materials):
+        mat_refl[i] = m.reflectance
+        mat_emis_two[i] = 1 if m.two_sided else 0
+        if m.emission >= 0 and m.emission_luminance > 0.0:
+            mat_emis[i] = m.emission
+            mat_emis_scale[i] = _luminance_scale(spec[m.emission], cmf, m.emission_luminance,
+                                                 f"materials ({m.name!r}).emission")
+
+    # analytic lights
+    n_l = len(scene.lights)
+    light_kind = np.zeros(n_l, np.int32)
+    light_geo = np.zeros((n_l, 13))
+    light_spec = np.zeros(n_l, np.int32)
+    light_scale = np.zeros(n_l)
+    light_two = np.zeros(n_l, np.int32)
+    light_vis = np.zeros(n_l, np.int32)
+    for i, li in enumerate(scene.lights):
+        u = np.asarray(li.axis_u, np.float64)
+        v = np.asarray(li.axis_v, np.float64)
+        n = np.cross(u, v)
+        rect_area = 4.0 * np.linalg.norm(n)
+        area = rect_area if li.kind == C.LIGHT_RECT else rect_area * np.pi / 4.0
+        light_kind[i] = li.kind
+        light_geo[i, 0:3] = li.position
+        light_geo[i, 3:6] = u
+        light_geo[i, 6:9] = v
+        light_geo[i, 9:12] = n / np.linalg.norm(n)
+        light_geo[i, 12] = area
+        light_spec[i] = li.spectrum
+        light_scale[i] = _luminance_scale(spec[li.spectrum], cmf, li.luminance, f"lights ({li.name!r})")
+        light_two[i] = 1 if li.two_sided else 0
+        light_vis[i] = 1 if li.visible else 0
+
+    # emitter distribution, proportional to power (luminance · area · sides)
+    e1 = bvh.e1.astype(np.float64)
+    e2 = bvh.e2.astype(np.float64)
+    tri_area = 0.5 * np.linalg.norm(np.cross(e1, e2), axis=1)
+    emissive = (mat_emis[tri_mat] >= 0) & (tri_area > 0) if tri_mat.size else np.zeros(0, bool)
+    em_tris = np.nonzero(emissive)[0].astype(np.int32)
+    lum = np.array([m.emission_luminance for m in scene.materials] or [0.0])
+    power_tri = lum[tri_mat[em_tris]] * tri_area[em_tris] * (1.0 + mat_emis_two[tri_mat[em_tris]])
+    power_light = np.array([li.luminance * light_geo[i, 12] * (2.0 if li.two_sided else 1.0)
+                            for i, li in enumerate(scene.lights)], dtype=np.float64)
+    power = np.concatenate([power_tri, power_light])
+    keep_l = power_light > 0
+    emit_tri = np.concatenate([em_tris, np.full(n_l, -1, np.int32)])
+    emit_light = np.concatenate([np.full(em_tris.size, -1, np.int32), np.arange(n_l, dtype=np.int32)])
+    # lights with zero power stay in the table (their index is fixed) with zero probability
+    total = power.sum()
+    if total > 0:
+        prob = power / total
+    else:
+        prob = np.zeros_like(power)
+    cdf = np.concatenate([[0.0], np.cumsum(prob)])
+    if total > 0:
+        cdf[-1] = 1.0
+    else:
+        # no emitters with power: an empty distribution (the kernel then skips NEE)
+        prob = np.zeros(0)
+        cdf = np.zeros(1)
+        emit_tri = np.zeros(0, np.int32)
+        emit_light = np.zeros(0, np.int32)
+    del keep_l
+    tri_emitter = np.full(tri_mat.size, -1, np.int32)
+    if total > 0:
+        tri_emitter[em_tris] = np.arange(em_tris.size, dtype=np.int32)
+    # The kernel finds an analytic light's emitter index as n_emit - n_lights + li.
+
+    world_spec = int(scene.world.background)
+    world_scale = 0.0
+    if world_spec >= 0:
+        world_scale = _luminance_scale(spec[world_spec], cmf, scene.world.luminance, "world")
+        if world_scale == 0.0:
+            world_spec = -1
+
+    pts = [np.abs(v0).max(initial=0), np.abs(v1).max(initial=0), np.abs(v2).max(initial=0)]
+    if n_l:
+        pts.append(np.abs(light_geo[:, :3]).max())
+    scene_scale = max(1.0, float(max(pts)))
+    return Prepared(scene, bvh, tri_mat, tri_emitter, mat_refl, mat_emis, mat_emis_scale,
+                    mat_emis_two, np.ascontiguousarray(spec, np.float32), cmf, light_kind, light_geo, light_spec,
+                    light_scale, light_two, light_vis, cdf, np.ascontiguousarray(prob), emit_tri, emit_light,
+                    world_spec, world_scale, camera_vector(scene.camera), scene_scale,
+                    time.perf_counter() - t0)
+
+
+def run_pass(prep: Prepared, film: Film, s0: int, s1: int):
+    """Add samples [s0, s1) of every pixel to ``film`` (under the kernel lock)."""
+    from .kernels.path import render_pass
+
+    st = prep.scene.settings
+    b = prep.bvh
+    with KERNEL_LOCK:
+        render_pass(film.sums, int(s0), int(s1), int(st.seed), int(st.max_depth), int(st.rr_depth),
+                    float(prep.scene_scale), prep.cam,
+                    b.bmin, b.bmax, b.child, b.count, b.axis, b.v0, b.e1, b.e2, prep.tri_mat, prep.tri_emitter,
+                    prep.mat_refl, prep.mat_emis, prep.mat_emis_scale, prep.mat_emis_two, prep.spec, prep.cmf,
+                    prep.light_kind, prep.light_geo, prep.light_spec, prep.light_scale, prep.light_two_sided,
+                    prep.light_visible, prep.emit_cdf, prep.emit_prob, prep.emit_tri, prep.emit_light,
+                    int(prep.world_spec), float(prep.world_scale))
+    film.spp = s1
+
+
+@dataclass
+class RenderStats:
+    spp: int
+    seconds: float
+    samples_per_second: float
+    cancelled: bool
+    build_seconds: float
+    compile_seconds: float
+
+
+def kernels_compiled():
+    """True if the path kernel is already compiled in this process."""
+    from .kernels.path import render_pass
+    return bool(render_pass.signatures)
+
+
+def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_pass=None, status=None):
+    """Render ``scene`` to a :class:`Film`.
+
+    progress(done_spp, total_spp, samples_per_second) after each pass;
+    should_cancel() → True stops after the current pass (the film keeps what was done);
+    on_pass(film) after each pass (for progressive display);
+    status(text) for phase messages ("Compiling kernels (first run only)", ...).
+    Returns (film, RenderStats).
+    """
+    say = status or (lambda text: None)
+    set_threads(threads)
+    say("Preparing scene")
+    prep = prepare(scene)
+    cam = scene.camera
+    film = Film(cam.width, cam.height)
+    total = int(scene.settings.spp)
+    t_compile = 0.0
+    if not kernels_compiled():
+        say("Compiling kernels (first run only)")
+        tc = time.perf_counter()
+        # compile (or load from numba's cache) with a 1-sample pass on a scratch film
+        run_pass(prep, Film(1, 1), 0, 1)
+        t_compile = time.perf_counter() - tc
+    say("Rendering")
+    t0 = time.perf_counter()
+    done = 0
+    step = 1
+    cancelled = False
+    while done < total:
+        if should_cancel is not None and should_cancel():
+            cancelled = True
+            break
+        n = min(step, total - done)
+        tp = time.perf_counter()
+        run_pass(prep, film, done, done + n)
+        dt = time.perf_counter() - tp
+        done += n
+        elapsed = time.perf_counter() - t0
+        rate = done * cam.width * cam.height / max(elapsed, 1e-9)
+        if progress is not None:
+            progress(done, total, rate)
+        if on_pass is not None:
+            on_pass(film)
+        # adapt the pass length towards PASS_SECONDS
+        if dt > 0:
+            step = int(max(1, min(step * 4, round(n * PASS_SECONDS / dt))))
+    elapsed = time.perf_counter() - t0
+    stats = RenderStats(done, elapsed, done * cam.width * cam.height / max(elapsed, 1e-9), cancelled,
+                        prep.build_seconds, t_compile)
+    return film, stats

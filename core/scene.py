@@ -1,0 +1,437 @@
+"""The scene contract: what Blender's exporter and the command line both hand to the renderer.
+
+A :class:`Scene` is a versioned set of typed, contiguous arrays plus a few small
+records. :func:`validate` checks every field and raises :class:`SceneError` with a
+message naming the field. :func:`save` / :func:`load` write and read the portable
+format described in ``docs/scene-format.md``: one JSON file for the records and one
+``.npz`` beside it for the arrays (never pickle).
+
+Units: lengths in metres, world space with Blender's axes (+Z up). Spectra are
+Fourier-basis (trigonometric-moment) coefficients, see :mod:`.spectra.moments`.
+Emitters carry the *shape* of their spectrum and one photometric number, their
+luminance in cd/m², as pbrt-v4 does: the spectrum sets the colour, the number the
+brightness.
+"""
+from __future__ import annotations
+
+import dataclasses
+import io
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from . import constants as C
+from .io.atomic import atomic_path, write_text
+
+
+class SceneError(ValueError):
+    """A scene (or scene file) is malformed. The message names the offending field."""
+
+
+@dataclass
+class Mesh:
+    """A triangle mesh in world space."""
+
+    name: str
+    positions: np.ndarray  # float32 (N, 3), metres
+    indices: np.ndarray  # int32 (T, 3), into positions
+    material: np.ndarray  # int32 (T,), into Scene.materials
+    normals: np.ndarray | None = None  # float32 (N, 3) shading normals, or None (flat)
+    uvs: np.ndarray | None = None  # float32 (N, 2), or None
+
+
+@dataclass
+class SpectrumTable:
+    """All spectra of a scene as Fourier-basis coefficients, one row per spectrum."""
+
+    coeffs: np.ndarray  # float64 (S, M)
+    kind: np.ndarray  # int32 (S,): SPECTRUM_BOUNDED or SPECTRUM_UNBOUNDED
+    names: list[str] = field(default_factory=list)
+
+    @classmethod
+    def empty(cls, n_coeffs=C.N_COEFFS_DEFAULT):
+        return cls(np.zeros((0, n_coeffs)), np.zeros(0, np.int32), [])
+
+    def add(self, name, coeffs, kind):
+        coeffs = np.asarray(coeffs, dtype=np.float64).reshape(1, -1)
+        if self.coeffs.shape[0] == 0:
+            self.coeffs = np.zeros((0, coeffs.shape[1]))
+        self.coeffs = np.concatenate([self.coeffs, coeffs])
+        self.kind = np.concatenate([self.kind, np.array([kind], np.int32)])
+        self.names.append(str(name))
+        return len(self.names) - 1
+
+    def __len__(self):
+        return len(self.names)
+
+
+@dataclass
+class Material:
+    name: str
+    model: int = C.MAT_LAMBERT
+    reflectance: int = -1  # index of a bounded spectrum; -1 = black
+    emission: int = -1  # index of an unbounded spectrum (shape only); -1 = none
+    emission_luminance: float = 0.0  # cd/m² of the emitted radiance
+    two_sided: bool = True  # emits from both sides (Blender's Emission shader); False: front only
+
+
+@dataclass
+class Light:
+    """An analytic area light: a rectangle or an ellipse spanned by two half-axes.
+
+    It emits from the side of ``cross(axis_u, axis_v)`` (both sides if ``two_sided``),
+    with uniform radiance whose luminance is ``luminance`` cd/m².
+    """
+
+    name: str
+    kind: int  # LIGHT_RECT or LIGHT_ELLIPSE
+    position: tuple  # centre, metres
+    axis_u: tuple  # half-extent vector, metres
+    axis_v: tuple  # half-extent vector, metres
+    spectrum: int  # index of an unbounded spectrum (shape only)
+    luminance: float  # cd/m²
+    two_sided: bool = False
+    visible: bool = False  # seen directly by camera rays (Blender 5.0's default: no)
+
+
+@dataclass
+class Camera:
+    """A perspective camera with Blender's conventions.
+
+    ``to_world`` maps camera space (looking down -Z, +Y up) to world space. The
+    field of view follows Blender: the sensor size along the fitted axis
+    (``sensor_fit``; AUTO fits the larger image dimension) over the focal length.
+    """
+
+    to_world: np.ndarray  # float64 (4, 4)
+    width: int = 256
+    height: int = 256
+    lens_mm: float = 50.0
+    sensor_width_mm: float = 36.0
+    sensor_height_mm: float = 24.0
+    sensor_fit: int = C.FIT_AUTO
+    shift_x: float = 0.0
+    shift_y: float = 0.0
+    projection: int = C.CAM_PERSPECTIVE
+
+
+@dataclass
+class World:
+    background: int = -1  # index of an unbounded spectrum; -1 = black
+    luminance: float = 0.0  # cd/m² of the background radiance
+
+
+@dataclass
+class RenderSettings:
+    spp: int = 64
+    max_depth: int = 16  # maximum number of scattering events on a path
+    rr_depth: int = 3  # Russian roulette starts after this many bounces
+    seed: int = 0
+
+
+@dataclass
+class Scene:
+    meshes: list[Mesh] = field(default_factory=list)
+    spectra: SpectrumTable = field(default_factory=SpectrumTable.empty)
+    materials: list[Material] = field(default_factory=list)
+    lights: list[Light] = field(default_factory=list)
+    camera: Camera = field(default_factory=lambda: Camera(np.eye(4)))
+    world: World = field(default_factory=World)
+    settings: RenderSettings = field(default_factory=RenderSettings)
+    metadata: dict = field(default_factory=dict)
+    version: int = C.SCENE_FORMAT_VERSION
+
+    @property
+    def n_triangles(self):
+        return sum(int(m.indices.shape[0]) for m in self.meshes)
+
+
+# --------------------------------------------------------------------------- validation
+
+
+def _fail(field_name, problem):
+    raise SceneError(f"{field_name}: {problem}")
+
+
+def _check_array(name, a, dtype, shape):
+    """shape: tuple with None for free dimensions."""
+    if not isinstance(a, np.ndarray):
+        _fail(name, f"expected a numpy array, got {type(a).__name__}")
+    if a.dtype != np.dtype(dtype):
+        _fail(name, f"expected dtype {np.dtype(dtype).name}, got {a.dtype.name}")
+    if a.ndim != len(shape) or any(s is not None and s != d for s, d in zip(shape, a.shape)):
+        want = "(" + ", ".join("N" if s is None else str(s) for s in shape) + ")"
+        _fail(name, f"expected shape {want}, got {a.shape}")
+    if np.issubdtype(a.dtype, np.floating) and not np.all(np.isfinite(a)):
+        bad = np.argwhere(~np.isfinite(a))[0]
+        _fail(name, f"contains NaN or Inf (first at index {tuple(int(i) for i in bad)})")
+
+
+def _check_number(name, v, lo=-math.inf, hi=math.inf, integer=False):
+    if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
+        _fail(name, f"expected a number, got {type(v).__name__}")
+    if integer and int(v) != v:
+        _fail(name, f"expected an integer, got {v}")
+    if not math.isfinite(float(v)):
+        _fail(name, f"must be finite, got {v}")
+    if not lo <= v <= hi:
+        _fail(name, f"must be in [{lo}, {hi}], got {v}")
+
+
+def _check_vec3(name, v):
+    a = np.asarray(v, dtype=np.float64) if not isinstance(v, np.ndarray) else v
+    if a.shape != (3,):
+        _fail(name, f"expected 3 numbers, got shape {a.shape}")
+    if not np.all(np.isfinite(a)):
+        _fail(name, "contains NaN or Inf")
+    return a
+
+
+def validate(scene: Scene) -> Scene:
+    """Check every field of ``scene``; raise SceneError naming the first bad one."""
+    from .spectra import moments
+
+    if not isinstance(scene, Scene):
+        _fail("scene", f"expected a Scene, got {type(scene).__name__}")
+    if scene.version != C.SCENE_FORMAT_VERSION:
+        _fail("version", f"unknown scene format version {scene.version!r} "
+                         f"(this build reads version {C.SCENE_FORMAT_VERSION})")
+
+    sp = scene.spectra
+    n_spec = len(sp)
+    _check_array("spectra.coeffs", sp.coeffs, np.float64, (n_spec, None))
+    _check_array("spectra.kind", sp.kind, np.int32, (n_spec,))
+    if n_spec and not C.N_COEFFS_MIN <= sp.coeffs.shape[1] <= C.N_COEFFS_MAX:
+        _fail("spectra.coeffs", f"number of coefficients must be in [{C.N_COEFFS_MIN}, "
+                                f"{C.N_COEFFS_MAX}], got {sp.coeffs.shape[1]}")
+    for i in range(n_spec):
+        nm = f"spectra[{i}] ({sp.names[i]!r})"
+        if sp.kind[i] not in (C.SPECTRUM_BOUNDED, C.SPECTRUM_UNBOUNDED):
+            _fail(f"spectra.kind[{i}]", f"unknown spectrum kind {int(sp.kind[i])}")
+        problem = moments.check_coefficients(sp.coeffs[i], int(sp.kind[i]))
+        if problem:
+            _fail(nm, problem)
+
+    def spec_ref(name, idx, kind, allow_none=True):
+        _check_number(name, idx, integer=True)
+        if idx == -1 and allow_none:
+            return
+        if not 0 <= idx < n_spec:
+            _fail(name, f"spectrum index {idx} out of range [0, {n_spec})")
+        if sp.kind[idx] != kind:
+            want = "bounded (reflectance)" if kind == C.SPECTRUM_BOUNDED else "unbounded (emission)"
+            _fail(name, f"spectrum {idx} ({sp.names[idx]!r}) must be {want}")
+
+    n_mat = len(scene.materials)
+    for i, m in enumerate(scene.materials):
+        nm = f"materials[{i}] ({m.name!r})"
+        if m.model != C.MAT_LAMBERT:
+            _fail(f"{nm}.model", f"unknown material model {m.model}")
+        spec_ref(f"{nm}.reflectance", m.reflectance, C.SPECTRUM_BOUNDED)
+        spec_ref(f"{nm}.emission", m.emission, C.SPECTRUM_UNBOUNDED)
+        _check_number(f"{nm}.emission_luminance", m.emission_luminance, lo=0.0)
+
+    for i, mesh in enumerate(scene.meshes):
+        nm = f"meshes[{i}] ({mesh.name!r})"
+        _check_array(f"{nm}.positions", mesh.positions, np.float32, (None, 3))
+        n_v = mesh.positions.shape[0]
+        _check_array(f"{nm}.indices", mesh.indices, np.int32, (None, 3))
+        n_t = mesh.indices.shape[0]
+        if n_t and (mesh.indices.min() < 0 or mesh.indices.max() >= n_v):
+            bad = int(mesh.indices.min()) if mesh.indices.min() < 0 else int(mesh.indices.max())
+            _fail(f"{nm}.indices", f"vertex index {bad} out of range [0, {n_v})")
+        _check_array(f"{nm}.material", mesh.material, np.int32, (n_t,))
+        if n_t and (mesh.material.min() < 0 or mesh.material.max() >= n_mat):
+            bad = int(mesh.material.min()) if mesh.material.min() < 0 else int(mesh.material.max())
+            _fail(f"{nm}.material", f"material index {bad} out of range [0, {n_mat})")
+        if mesh.normals is not None:
+            _check_array(f"{nm}.normals", mesh.normals, np.float32, (n_v, 3))
+        if mesh.uvs is not None:
+            _check_array(f"{nm}.uvs", mesh.uvs, np.float32, (n_v, 2))
+
+    for i, li in enumerate(scene.lights):
+        nm = f"lights[{i}] ({li.name!r})"
+        if li.kind not in (C.LIGHT_RECT, C.LIGHT_ELLIPSE):
+            _fail(f"{nm}.kind", f"unknown light kind {li.kind}")
+        _check_vec3(f"{nm}.position", li.position)
+        u = _check_vec3(f"{nm}.axis_u", li.axis_u)
+        v = _check_vec3(f"{nm}.axis_v", li.axis_v)
+        if np.linalg.norm(np.cross(u, v)) <= 0.0:
+            _fail(f"{nm}.axis_u", "the light's axes span no area")
+        spec_ref(f"{nm}.spectrum", li.spectrum, C.SPECTRUM_UNBOUNDED, allow_none=False)
+        _check_number(f"{nm}.luminance", li.luminance, lo=0.0)
+
+    cam = scene.camera
+    _check_array("camera.to_world", np.asarray(cam.to_world), np.float64, (4, 4))
+    _check_number("camera.width", cam.width, lo=1, hi=65536, integer=True)
+    _check_number("camera.height", cam.height, lo=1, hi=65536, integer=True)
+    _check_number("camera.lens_mm", cam.lens_mm, lo=1e-3, hi=1e6)
+    _check_number("camera.sensor_width_mm", cam.sensor_width_mm, lo=1e-3, hi=1e6)
+    _check_number("camera.sensor_height_mm", cam.sensor_height_mm, lo=1e-3, hi=1e6)
+    if cam.sensor_fit not in (C.FIT_AUTO, C.FIT_HORIZONTAL, C.FIT_VERTICAL):
+        _fail("camera.sensor_fit", f"unknown sensor fit {cam.sensor_fit}")
+    if cam.projection != C.CAM_PERSPECTIVE:
+        _fail("camera.projection", f"unknown projection {cam.projection}")
+    _check_number("camera.shift_x", cam.shift_x, lo=-100, hi=100)
+    _check_number("camera.shift_y", cam.shift_y, lo=-100, hi=100)
+    rot = np.asarray(cam.to_world)[:3, :3]
+    if abs(np.linalg.det(rot)) < 1e-12:
+        _fail("camera.to_world", "the rotation part is singular")
+
+    spec_ref("world.background", scene.world.background, C.SPECTRUM_UNBOUNDED)
+    _check_number("world.luminance", scene.world.luminance, lo=0.0)
+
+    s = scene.settings
+    _check_number("settings.spp", s.spp, lo=1, hi=1 << 24, integer=True)
+    _check_number("settings.max_depth", s.max_depth, lo=1, hi=1024, integer=True)
+    _check_number("settings.rr_depth", s.rr_depth, lo=1, hi=1024, integer=True)
+    _check_number("settings.seed", s.seed, lo=0, hi=2**32 - 1, integer=True)
+    return scene
+
+
+# --------------------------------------------------------------------------- save / load
+
+_RECORDS = {"materials": Material, "lights": Light}
+
+
+def _to_jsonable(obj):
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, (np.integer,)):
+        return int(obj)
+    if isinstance(obj, (np.floating,)):
+        return float(obj)
+    if isinstance(obj, (tuple, list)):
+        return [_to_jsonable(x) for x in obj]
+    if isinstance(obj, dict):
+        return {k: _to_jsonable(v) for k, v in obj.items()}
+    return obj
+
+
+def to_dict_and_arrays(scene: Scene):
+    """Split a scene into a JSON-able dict and a dict of named arrays."""
+    arrays = {"spectra.coeffs": scene.spectra.coeffs, "spectra.kind": scene.spectra.kind}
+    meshes = []
+    for i, m in enumerate(scene.meshes):
+        rec = {"name": m.name}
+        for key in ("positions", "indices", "material", "normals", "uvs"):
+            a = getattr(m, key)
+            if a is not None:
+                arrays[f"meshes.{i}.{key}"] = a
+                rec[key] = f"meshes.{i}.{key}"
+        meshes.append(rec)
+    cam = dataclasses.asdict(scene.camera)
+    doc = {
+        "format": "spectral-gi-scene",
+        "version": scene.version,
+        "metadata": scene.metadata,
+        "spectra": {"names": list(scene.spectra.names), "coeffs": "spectra.coeffs", "kind": "spectra.kind"},
+        "materials": [dataclasses.asdict(m) for m in scene.materials],
+        "lights": [dataclasses.asdict(li) for li in scene.lights],
+        "meshes": meshes,
+        "camera": cam,
+        "world": dataclasses.asdict(scene.world),
+        "settings": dataclasses.asdict(scene.settings),
+    }
+    return _to_jsonable(doc), arrays
+
+
+def save(scene: Scene, path) -> Path:
+    """Write ``scene`` as ``path`` (JSON) plus ``path`` with suffix ``.npz`` (arrays).
+
+    ``path`` may also name a folder, which then receives ``scene.json`` and
+    ``scene.npz``. Both files are written atomically; the scene is validated first.
+    """
+    validate(scene)
+    path = Path(path)
+    if path.suffix.lower() != ".json":
+        path = path / "scene.json"
+    npz_path = path.with_suffix(".npz")
+    doc, arrays = to_dict_and_arrays(scene)
+    doc["arrays"] = npz_path.name
+    buf = io.BytesIO()
+    np.savez_compressed(buf, **{k: np.ascontiguousarray(v) for k, v in arrays.items()})
+    with atomic_path(npz_path) as tmp:
+        tmp.write_bytes(buf.getvalue())
+    write_text(path, json.dumps(doc, indent=1))
+    return path
+
+
+def load(path) -> Scene:
+    """Read a scene written by :func:`save`; raise SceneError with the field on any problem."""
+    path = Path(path)
+    if path.is_dir():
+        path = path / "scene.json"
+    if not path.is_file():
+        raise SceneError(f"scene file: {path} does not exist")
+    try:
+        doc = json.loads(path.read_text(encoding="utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as e:
+        raise SceneError(f"scene file: {path} is not valid JSON ({e})") from None
+    if not isinstance(doc, dict) or doc.get("format") != "spectral-gi-scene":
+        raise SceneError(f"format: {path} is not a spectral-gi scene file")
+    version = doc.get("version")
+    if version != C.SCENE_FORMAT_VERSION:
+        raise SceneError(f"version: unknown scene format version {version!r} "
+                         f"(this build reads version {C.SCENE_FORMAT_VERSION})")
+    npz_path = path.parent / str(doc.get("arrays", path.with_suffix(".npz").name))
+    if not npz_path.is_file():
+        raise SceneError(f"arrays: {npz_path} does not exist")
+    try:
+        with np.load(npz_path, allow_pickle=False) as z:
+            arrays = {k: z[k] for k in z.files}
+    except Exception as e:  # zipfile.BadZipFile, ValueError for pickled content, ...
+        raise SceneError(f"arrays: cannot read {npz_path} ({e})") from None
+
+    def arr(key, field_name):
+        if key is None:
+            return None
+        if not isinstance(key, str) or key not in arrays:
+            raise SceneError(f"{field_name}: array {key!r} missing from {npz_path.name}")
+        return arrays[key]
+
+    def record(cls, d, field_name):
+        if not isinstance(d, dict):
+            raise SceneError(f"{field_name}: expected an object")
+        names = {f.name for f in dataclasses.fields(cls)}
+        unknown = set(d) - names
+        if unknown:
+            raise SceneError(f"{field_name}: unknown keys {sorted(unknown)}")
+        try:
+            return cls(**d)
+        except TypeError as e:
+            raise SceneError(f"{field_name}: {e}") from None
+
+    try:
+        sp = doc["spectra"]
+        spectra = SpectrumTable(arr(sp["coeffs"], "spectra.coeffs"), arr(sp["kind"], "spectra.kind"),
+                                list(sp["names"]))
+        meshes = []
+        for i, m in enumerate(doc["meshes"]):
+            meshes.append(Mesh(
+                name=m["name"],
+                positions=arr(m.get("positions"), f"meshes[{i}].positions"),
+                indices=arr(m.get("indices"), f"meshes[{i}].indices"),
+                material=arr(m.get("material"), f"meshes[{i}].material"),
+                normals=arr(m.get("normals"), f"meshes[{i}].normals"),
+                uvs=arr(m.get("uvs"), f"meshes[{i}].uvs"),
+            ))
+        materials = [record(Material, d, f"materials[{i}]") for i, d in enumerate(doc["materials"])]
+        lights = [record(Light, d, f"lights[{i}]") for i, d in enumerate(doc["lights"])]
+        camd = dict(doc["camera"])
+        camd["to_world"] = np.asarray(camd.get("to_world"), dtype=np.float64)
+        camera = record(Camera, camd, "camera")
+        world = record(World, doc["world"], "world")
+        settings = record(RenderSettings, doc["settings"], "settings")
+    except KeyError as e:
+        raise SceneError(f"{e.args[0]}: missing from {path.name}") from None
+    except (TypeError, ValueError, AttributeError) as e:
+        if isinstance(e, SceneError):
+            raise
+        raise SceneError(f"scene file: malformed content in {path.name} ({e})") from None
+    scene = Scene(meshes=meshes, spectra=spectra, materials=materials, lights=lights, camera=camera,
+                  world=world, settings=settings, metadata=dict(doc.get("metadata") or {}), version=version)
+    return validate(scene)

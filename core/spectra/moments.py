@@ -1,0 +1,193 @@
+"""Fourier-basis spectra: trigonometric moments of a phase-warped wavelength.
+
+After Peters, Merzbach, Hanika and Dachsbacher, "Using Moments to Represent Bounded
+Signals for Spectral Rendering", ACM TOG 38(4), 2019.
+
+A spectrum g(λ) on [LAMBDA_MIN, LAMBDA_MAX] is mapped to a phase
+φ(λ) = π (λ - λmin)/(λmax - λmin) - π ∈ [-π, 0] and mirrored to an even function on
+[-π, π]. Its m real trigonometric moments are
+
+    c_j = (1/π) ∫_{-π}^{0} g(φ) cos(j φ) dφ,   j = 0 .. m-1,
+
+i.e. the Fourier coefficients of the mirrored signal (c_0 is the mean of g). Three
+reconstructions are offered:
+
+* ``reconstruct_fourier``: the truncated Fourier series (the compendium's item 65,
+  extended to m terms). Exact moments, but it rings and can leave [0, 1].
+* ``reconstruct_bounded``: the bounded maximum-entropy spectral estimate (MESE) of
+  Peters et al.: stays in [0, 1] and reproduces the moments exactly. Reflectances.
+* ``reconstruct_unbounded``: Burg's maximum-entropy estimate: positive, reproduces the
+  moments exactly, any scale. Emission spectra.
+
+These are NumPy functions used when a scene is prepared: each spectrum is evaluated
+once on the renderer's 1 nm grid and the kernels interpolate that table.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .. import constants as C
+
+_FINE_STEP = 0.05  # nm, quadrature grid for moments of tabulated spectra
+
+
+def phase(wavelengths):
+    """Phase φ ∈ [-π, 0] of wavelengths in nm (linear warp of the visible range)."""
+    wl = np.asarray(wavelengths, dtype=np.float64)
+    return np.pi * (wl - C.LAMBDA_MIN) / (C.LAMBDA_MAX - C.LAMBDA_MIN) - np.pi
+
+
+def grid():
+    """The renderer's wavelength grid (nm)."""
+    return C.LAMBDA_MIN + C.LAMBDA_STEP * np.arange(C.N_LAMBDA)
+
+
+def moments_from_samples(wavelengths, values, n_coeffs=C.N_COEFFS_DEFAULT):
+    """Moments of a tabulated spectrum (any sampling, linear between samples).
+
+    Outside the tabulated range the end values are held, as colour-science's default
+    extrapolation does. ``values`` may be (N,) or (N, K) for K spectra at once; the
+    result is (n_coeffs,) or (K, n_coeffs).
+    """
+    wl = np.asarray(wavelengths, dtype=np.float64)
+    v = np.asarray(values, dtype=np.float64)
+    if wl.ndim != 1 or wl.size < 1 or v.shape[0] != wl.size:
+        raise ValueError(f"moments_from_samples: {wl.size} wavelengths but values of shape {v.shape}")
+    if not (np.all(np.isfinite(wl)) and np.all(np.isfinite(v))):
+        raise ValueError("moments_from_samples: wavelengths and values must be finite")
+    if wl.size > 1 and np.any(np.diff(wl) <= 0):
+        raise ValueError("moments_from_samples: wavelengths must be strictly increasing")
+    fine = np.linspace(C.LAMBDA_MIN, C.LAMBDA_MAX,
+                       int(round((C.LAMBDA_MAX - C.LAMBDA_MIN) / _FINE_STEP)) + 1)
+    single = v.ndim == 1
+    cols = v.reshape(wl.size, -1)
+    g = np.stack([np.interp(fine, wl, cols[:, k]) for k in range(cols.shape[1])], axis=1)
+    phi = phase(fine)
+    j = np.arange(n_coeffs)
+    basis = np.cos(phi[:, None] * j[None, :])  # (F, m)
+    w = np.full(fine.size, phi[1] - phi[0])
+    w[0] *= 0.5
+    w[-1] *= 0.5
+    c = (g * w[:, None]).T @ basis / np.pi  # (K, m)
+    return c[0] if single else c
+
+
+def reconstruct_fourier(coeffs, wavelengths):
+    """Truncated Fourier series g(φ) = c_0 + 2 Σ c_j cos(jφ) (may leave [0, 1])."""
+    c = np.asarray(coeffs, dtype=np.float64)
+    phi = phase(wavelengths)
+    j = np.arange(1, c.size)
+    return c[0] + 2.0 * np.cos(np.multiply.outer(phi, j)) @ c[1:]
+
+
+def _toeplitz_hermitian(first_col):
+    n = first_col.size
+    idx = np.arange(n)[:, None] - np.arange(n)[None, :]
+    t = np.where(idx >= 0, first_col[np.abs(idx)], np.conj(first_col[np.abs(idx)]))
+    return t
+
+
+def exponential_moments(coeffs):
+    """Exponential moments of the bounded signal (Peters et al. 2019, Herglotz transform)."""
+    c = np.asarray(coeffs, dtype=np.float64)
+    m = c.size
+    a = np.zeros(m, dtype=np.complex128)
+    a[0] = np.exp(1j * np.pi * (c[0] - 0.5)) / (4.0 * np.pi)
+    for i in range(1, m):
+        k = np.arange(i)
+        a[i] = np.sum(c[i - k] * a[k] * (2j * np.pi * (i - k) / i))
+    a[0] *= 2.0
+    return a
+
+
+def _bounded_prepare(c):
+    a = exponential_moments(c)
+    # The positive density behind the exponential moments has moments Re(a_0), a_1, ...
+    # (the imaginary part of a_0 is the additive constant of the Carathéodory function).
+    t = _toeplitz_hermitian(np.concatenate([[a[0].real], a[1:]]))
+    e0 = np.zeros(c.size, dtype=np.complex128)
+    e0[0] = 1.0
+    q = np.linalg.solve(t, e0) * (2.0 * np.pi)
+    return a, q
+
+
+_EDGE = 1e-6  # c_0 this close to 0 or 1 means the constant spectrum 0 or 1
+
+
+def reconstruct_bounded(coeffs, wavelengths):
+    """Bounded MESE: a signal in [0, 1] whose moments equal ``coeffs``."""
+    c = np.asarray(coeffs, dtype=np.float64)
+    wl = np.asarray(wavelengths, dtype=np.float64)
+    if c[0] <= _EDGE:
+        return np.zeros(wl.shape)
+    if c[0] >= 1.0 - _EDGE:
+        return np.ones(wl.shape)
+    a, q = _bounded_prepare(c)
+    m = c.size
+    z_conj = np.exp(-1j * phase(wl))
+    # Evaluate the Herglotz transform of the MESE of the exponential moments with a
+    # Horner-like recursion over the polynomial's coefficients.
+    poly = np.empty((m,) + wl.shape, dtype=np.complex128)
+    poly[0] = q[0].real
+    for j in range(1, m):
+        poly[j] = q[j] + poly[j - 1] * z_conj
+    acc = np.zeros(wl.shape, dtype=np.complex128)
+    for j in range(1, m):
+        acc += poly[m - 1 - j] * a[j]
+    h = a[0] + 2.0 * acc / poly[m - 1]
+    return np.clip(np.arctan2(h.imag, h.real) / np.pi + 0.5, 0.0, 1.0)
+
+
+def reconstruct_unbounded(coeffs, wavelengths):
+    """Burg's maximum-entropy estimate: a positive signal whose moments equal ``coeffs``."""
+    c = np.asarray(coeffs, dtype=np.float64)
+    wl = np.asarray(wavelengths, dtype=np.float64)
+    if c[0] <= 0.0:
+        return np.zeros(wl.shape)
+    t = _toeplitz_hermitian(c.astype(np.complex128)).real
+    e0 = np.zeros(c.size)
+    e0[0] = 1.0
+    q = np.linalg.solve(t, e0)
+    z = np.exp(-1j * np.multiply.outer(phase(wl), np.arange(c.size)))
+    denom = np.abs(z @ q) ** 2
+    return q[0] / denom
+
+
+def reconstruct(coeffs, kind, wavelengths):
+    if kind == C.SPECTRUM_BOUNDED:
+        return reconstruct_bounded(coeffs, wavelengths)
+    if kind == C.SPECTRUM_UNBOUNDED:
+        return reconstruct_unbounded(coeffs, wavelengths)
+    raise ValueError(f"unknown spectrum kind {kind}")
+
+
+def check_coefficients(coeffs, kind):
+    """Return a sentence describing why ``coeffs`` is not a valid spectrum, or None."""
+    c = np.asarray(coeffs, dtype=np.float64)
+    if not np.all(np.isfinite(c)):
+        return "coefficients contain NaN or Inf"
+    if kind == C.SPECTRUM_BOUNDED:
+        if c[0] < -1e-9:
+            return f"negative reflectance (mean {c[0]:.6g} < 0)"
+        if c[0] > 1.0 + 1e-9:
+            return f"reflectance above 1 (mean {c[0]:.6g} > 1)"
+        if _EDGE < c[0] < 1.0 - _EDGE:
+            a = exponential_moments(c)
+            a[0] = a[0].real
+            if np.linalg.eigvalsh(_toeplitz_hermitian(a)).min() <= 0.0:
+                return "coefficients describe no reflectance within [0, 1]"
+        return None
+    if c[0] < 0.0:
+        return f"negative emission (mean {c[0]:.6g} < 0)"
+    if c[0] > 0.0 and np.linalg.eigvalsh(_toeplitz_hermitian(c.astype(np.complex128)).real).min() <= 0.0:
+        return "coefficients describe no non-negative emission spectrum"
+    return None
+
+
+def tabulate(coeffs, kinds):
+    """Reconstruct S spectra on the renderer's grid: float32 (S, N_LAMBDA)."""
+    wl = grid()
+    out = np.zeros((len(kinds), wl.size), dtype=np.float32)
+    for i, (c, k) in enumerate(zip(coeffs, kinds)):
+        out[i] = reconstruct(c, int(k), wl)
+    return out

@@ -1,0 +1,60 @@
+"""Spectra from RGB colours (uplifting) and from tabulated data, as Fourier coefficients.
+
+Reflectances: the Mallett–Yuksel (2019) sRGB basis, r·B_r + g·B_g + b·B_b, which stays
+within [0, 1] for colours in the unit cube and sums to a flat 1 for white; its moments
+are linear in the colour. Emission colours: the same reflectance times CIE D65, so a
+white emitter has D65's shape and renders as RGB (1, 1, 1).
+"""
+import functools
+
+import numpy as np
+
+from .. import constants as C
+from .. import presets
+from . import moments
+
+
+@functools.lru_cache(maxsize=None)
+def _basis_moments(n_coeffs, emission):
+    wl, basis = presets.mallett2019_basis()
+    if emission:
+        dwl, d65 = presets.illuminant("D65")
+        basis = basis * np.interp(wl, dwl, d65)[:, None] / 100.0
+    return moments.moments_from_samples(wl, basis, n_coeffs).T.copy()  # (n, 3)
+
+
+def _rgb(rgb):
+    a = np.asarray(rgb, dtype=np.float64).reshape(-1)[:3]
+    if a.size != 3 or not np.all(np.isfinite(a)):
+        raise ValueError(f"expected a finite RGB triple, got {rgb!r}")
+    return a
+
+
+def reflectance_from_rgb(rgb, n_coeffs=C.N_COEFFS_DEFAULT):
+    """Bounded spectrum coefficients for a linear Rec.709 reflectance (clipped to [0, 1])."""
+    a = np.clip(_rgb(rgb), 0.0, 1.0)
+    return _basis_moments(n_coeffs, False) @ a
+
+
+def emission_from_rgb(rgb, n_coeffs=C.N_COEFFS_DEFAULT):
+    """Unbounded spectrum coefficients for the *shape* of an emitter's linear Rec.709 colour."""
+    a = np.maximum(_rgb(rgb), 0.0)
+    peak = a.max()
+    if peak <= 0.0:
+        a = np.ones(3)
+        peak = 1.0
+    return _basis_moments(n_coeffs, True) @ (a / peak)
+
+
+def reflectance_from_samples(wavelengths, values, n_coeffs=C.N_COEFFS_DEFAULT):
+    v = np.asarray(values, dtype=np.float64)
+    if np.any(v < 0.0) or np.any(v > 1.0):
+        raise ValueError("a reflectance spectrum must lie within [0, 1]")
+    return moments.moments_from_samples(wavelengths, v, n_coeffs)
+
+
+def emission_from_samples(wavelengths, values, n_coeffs=C.N_COEFFS_DEFAULT):
+    v = np.asarray(values, dtype=np.float64)
+    if np.any(v < 0.0):
+        raise ValueError("an emission spectrum must be non-negative")
+    return moments.moments_from_samples(wavelengths, v, n_coeffs)

@@ -8,7 +8,7 @@ from .io.exr import read_channels as read_exr
 from .io.exr import write_render as write_exr
 from .io.png import write_png
 from .presets import load_cornell_box_data
-from .render import RenderStats, kernels_compiled, render
+from .renderer import RenderStats, kernels_compiled, render
 from .scene import (Camera, Light, Material, Mesh, RenderSettings, Scene, SceneError, SpectrumTable, World,
                     validate)
 from .scene import load as load_scene

@@ -53,6 +53,8 @@ def closest(bvh, origins, directions, tmax=None):
         np.broadcast_to(tmax, o.shape[:1]), np.float64)
     t, p = K.trace_closest_batch(o, d, tm, bvh.bmin, bvh.bmax, bvh.child, bvh.count, bvh.axis,
                                  bvh.v0, bvh.e1, bvh.e2)
+    if bvh.prims.size == 0:
+        return t, np.full(p.shape, -1, np.int32)
     tri = np.where(p >= 0, bvh.prims[np.maximum(p, 0)], -1)
     return t, tri
 

@@ -100,7 +100,7 @@ def _render(args):
     from .film import develop
     from .io.exr import write_render
     from .io.png import write_png
-    from .render import render
+    from .renderer import render
     from .scene import SceneError, load, validate
     from .scenes import cornell_box
 

@@ -259,7 +259,7 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, bmin, bmax, child, count, ax
     best_p = -1
     best_u = 0.0
     best_v = 0.0
-    if _slab(ox, oy, oz, ix, iy, iz, bmin, bmax, 0, best_t) == np.inf:
+    if v0.shape[0] == 0 or _slab(ox, oy, oz, ix, iy, iz, bmin, bmax, 0, best_t) == np.inf:
         return np.inf, -1, 0.0, 0.0
     sp = 0
     node = 0
@@ -313,6 +313,8 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, bmin, bmax, child, count, ax
 @inline
 def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, bmin, bmax, child, count, v0, e1, e2, stack):
     """True if any triangle is hit in (tmin, tmax)."""
+    if v0.shape[0] == 0:
+        return False
     ix = _inv(dx); iy = _inv(dy); iz = _inv(dz)
     sp = 0
     stack[0] = 0

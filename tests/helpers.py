@@ -1,0 +1,73 @@
+"""Small scene builders shared by the core tests."""
+import numpy as np
+
+from spectral_gi.core import constants as C
+from spectral_gi.core.scene import Camera, Light, Material, Mesh, RenderSettings, Scene, SpectrumTable, World
+from spectral_gi.core.spectra import uplift
+
+
+def flat_reflectance(rho, n=C.N_COEFFS_DEFAULT):
+    return uplift.reflectance_from_samples([C.LAMBDA_MIN, C.LAMBDA_MAX], [rho, rho], n)
+
+
+def flat_emission(n=C.N_COEFFS_DEFAULT):
+    return uplift.emission_from_samples([C.LAMBDA_MIN, C.LAMBDA_MAX], [1.0, 1.0], n)
+
+
+def look_at(eye, target, up=(0.0, 0.0, 1.0)):
+    eye = np.asarray(eye, float)
+    f = np.asarray(target, float) - eye
+    f /= np.linalg.norm(f)
+    r = np.cross(f, up)
+    if np.linalg.norm(r) < 1e-9:
+        r = np.cross(f, (0.0, 1.0, 0.0))
+    r /= np.linalg.norm(r)
+    u = np.cross(r, f)
+    m = np.eye(4)
+    m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3] = r, u, -f, eye
+    return m
+
+
+def box_mesh(name, lo, hi, material):
+    """An axis-aligned box as 12 triangles (normals point outwards)."""
+    lo = np.asarray(lo, float)
+    hi = np.asarray(hi, float)
+    c = np.array([[lo[0], lo[1], lo[2]], [hi[0], lo[1], lo[2]], [hi[0], hi[1], lo[2]], [lo[0], hi[1], lo[2]],
+                  [lo[0], lo[1], hi[2]], [hi[0], lo[1], hi[2]], [hi[0], hi[1], hi[2]], [lo[0], hi[1], hi[2]]])
+    quads = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (2, 3, 7, 6), (1, 2, 6, 5), (0, 4, 7, 3)]
+    tris = []
+    for a, b, cc, d in quads:
+        tris += [(a, b, cc), (a, cc, d)]
+    tris = np.array(tris, np.int32)
+    return Mesh(name, c.astype(np.float32), tris, np.full(len(tris), material, np.int32))
+
+
+def furnace_scene(rho=0.5, luminance=100.0, width=8, height=8, spp=64, max_depth=256):
+    """Camera inside a closed box whose walls all emit L_e and reflect rho: L = L_e / (1 - rho)."""
+    spectra = SpectrumTable.empty()
+    r = spectra.add("grey", flat_reflectance(rho), C.SPECTRUM_BOUNDED)
+    e = spectra.add("flat", flat_emission(), C.SPECTRUM_UNBOUNDED)
+    mat = Material("wall", reflectance=r, emission=e, emission_luminance=luminance)
+    mesh = box_mesh("box", (-1, -1, -1), (1, 1, 1), 0)
+    cam = Camera(look_at((0, 0, 0), (1, 0.2, 0.1)), width=width, height=height, lens_mm=20.0)
+    return Scene(meshes=[mesh], spectra=spectra, materials=[mat], camera=cam,
+                 settings=RenderSettings(spp=spp, max_depth=max_depth, rr_depth=3, seed=7))
+
+
+def disk_over_plane_scene(radius=0.5, height=1.0, rho=0.8, luminance=1000.0, kind=C.LIGHT_ELLIPSE,
+                          spp=256, res=9):
+    """A Lambertian plane z=0 under a coaxial downward disk light; the camera looks straight down.
+
+    At the plane's centre E = π L R² / (h² + R²), so the radiance is ρ L R² / (h² + R²).
+    """
+    spectra = SpectrumTable.empty()
+    r = spectra.add("grey", flat_reflectance(rho), C.SPECTRUM_BOUNDED)
+    e = spectra.add("flat", flat_emission(), C.SPECTRUM_UNBOUNDED)
+    s = 50.0
+    plane = Mesh("plane", np.array([[-s, -s, 0], [s, -s, 0], [s, s, 0], [-s, s, 0]], np.float32),
+                 np.array([[0, 1, 2], [0, 2, 3]], np.int32), np.zeros(2, np.int32))
+    # emit downwards: cross(u, v) = -z
+    light = Light("disk", kind, (0.0, 0.0, height), (0.0, radius, 0.0), (radius, 0.0, 0.0), e, luminance)
+    cam = Camera(look_at((0, 0, 0.5 * height), (0, 0, 0), up=(0, 1, 0)), width=res, height=res, lens_mm=2000.0)
+    return Scene(meshes=[plane], spectra=spectra, materials=[Material("plane", reflectance=r)], lights=[light],
+                 camera=cam, settings=RenderSettings(spp=spp, max_depth=1, seed=3))

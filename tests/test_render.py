@@ -1,0 +1,140 @@
+"""The path tracer against closed forms (compendium items 51-52), and determinism."""
+import numpy as np
+import pytest
+from helpers import disk_over_plane_scene, furnace_scene
+
+from spectral_gi.core import constants as C
+from spectral_gi.core import renderer as R
+from spectral_gi.core.film import develop
+from spectral_gi.core.scenes import cornell_box
+
+
+def _z(est, expected, var):
+    return (est - expected) / np.sqrt(var)
+
+
+@pytest.mark.statistical
+def test_furnace_with_emitting_walls_converges_to_closed_form():
+    """Inside a closed box whose walls emit L_e and reflect ρ, every radiance is L_e / (1 - ρ)."""
+    rho, le = 0.5, 100.0
+    film, stats = R.render(furnace_scene(rho, le, spp=256))
+    d = develop(film.sums)
+    expected = le / (1.0 - rho)
+    mean = d.luminance.mean()
+    var_of_mean = d.variance.mean() / d.luminance.size
+    assert abs(_z(mean, expected, var_of_mean)) < 4.5, (mean, expected)
+    assert abs(mean / expected - 1) < 0.01
+    # a flat emission spectrum under a flat reflectance keeps illuminant E's chromaticity (1/3, 1/3)
+    xyz = d.XYZ.reshape(-1, 3).sum(0)
+    assert xyz[0] / xyz.sum() == pytest.approx(0.3333, abs=2e-3)
+    assert xyz[1] / xyz.sum() == pytest.approx(0.3333, abs=2e-3)
+
+
+@pytest.mark.statistical
+@pytest.mark.parametrize("kind", [C.LIGHT_ELLIPSE, C.LIGHT_RECT])
+def test_area_light_over_plane_matches_analytic_irradiance(kind):
+    """E at the centre under a coaxial light: disk π L R²/(h²+R²); square from the rectangle formula."""
+    radius, h, rho, lum = 0.5, 1.0, 0.8, 1000.0
+    sc = disk_over_plane_scene(radius, h, rho, lum, kind=kind, spp=512)
+    film, _ = R.render(sc)
+    d = develop(film.sums)
+    if kind == C.LIGHT_ELLIPSE:
+        form = radius ** 2 / (h ** 2 + radius ** 2)  # E / (π L)
+    else:
+        # square of half-side a at height h: four a×a rectangles with a corner above the point,
+        # each with form factor F = (1/2π)[X/√(1+X²) atan(Y/√(1+X²)) + Y/√(1+Y²) atan(X/√(1+Y²))],
+        # X = Y = a/h, and E = π L F
+        x = radius / h
+        s = np.sqrt(1 + x * x)
+        form = 4 * (1 / (2 * np.pi)) * 2 * (x / s) * np.arctan(x / s)
+    # outgoing radiance ρ E / π = ρ L · (E / (π L))
+    expected = rho * lum * form
+    mean = d.luminance.mean()
+    var = d.variance.mean() / d.luminance.size
+    assert abs(_z(mean, expected, var)) < 4.5, (mean, expected)
+    assert abs(mean / expected - 1) < 0.02
+
+
+@pytest.mark.statistical
+def test_light_visible_flag_and_back_side():
+    sc = disk_over_plane_scene(spp=4)
+    # look up at the light from below: invisible to the camera by default
+    from helpers import look_at
+    sc.camera.to_world = look_at((0, 0, 0.5), (0, 0, 2.0), up=(0, 1, 0))
+    d = develop(R.render(sc)[0].sums)
+    assert d.luminance.max() == 0.0
+    sc.lights[0].visible = True
+    d = develop(R.render(sc)[0].sums)
+    # a flat spectrum seen directly: only the wavelength sampling varies
+    assert d.luminance.mean() == pytest.approx(1000.0, rel=1e-3)
+    # from above, the light's back side emits nothing and the light does not occlude (as in
+    # Cycles): the camera sees the lit plane, ρ L R²/(h² + R²) = 160 cd/m², through it
+    sc.camera.to_world = look_at((0, 0, 3.0), (0, 0, 0.0), up=(0, 1, 0))
+    sc.settings.spp = 64
+    d = develop(R.render(sc)[0].sums)
+    assert 120.0 < d.luminance.mean() < 200.0
+
+
+def test_same_image_for_one_and_two_threads_and_any_pass_split():
+    sc = cornell_box(width=24, height=20, spp=6, seed=11)
+    prep = R.prepare(sc)
+    from spectral_gi.core.film import Film
+    from spectral_gi.core.jit import set_threads
+
+    set_threads(1)
+    a = Film(24, 20)
+    R.run_pass(prep, a, 0, 6)
+    set_threads(2)
+    b = Film(24, 20)
+    R.run_pass(prep, b, 0, 6)
+    c = Film(24, 20)
+    for s0, s1 in [(0, 1), (1, 4), (4, 6)]:
+        R.run_pass(prep, c, s0, s1)
+    set_threads(None)
+    assert np.array_equal(a.sums, b.sums)
+    assert np.array_equal(a.sums, c.sums)
+    d = Film(24, 20)
+    sc.settings.seed = 12
+    R.run_pass(R.prepare(sc), d, 0, 6)
+    assert not np.array_equal(a.sums, d.sums)
+
+
+def test_cornell_box_colours_and_progress_callbacks():
+    sc = cornell_box(width=48, height=48, spp=16)
+    seen = []
+    film, stats = R.render(sc, progress=lambda done, total, rate: seen.append((done, total, rate)))
+    d = develop(film.sums)
+    assert np.all(np.isfinite(d.rgb))
+    assert seen[-1][0] == 16 and seen[-1][1] == 16 and all(r > 0 for _, _, r in seen)
+    left = d.rgb[12:36, 2:9].reshape(-1, 3).mean(0)
+    right = d.rgb[12:36, -9:-2].reshape(-1, 3).mean(0)
+    assert left[0] > 2 * left[1]  # red wall
+    assert right[1] > 1.2 * right[0]  # green wall (under the warm Cornell light)
+    # colour bleeding: the white back wall near the red wall is redder than near the green one
+    back_left = d.rgb[10:20, 12:16].reshape(-1, 3).mean(0)
+    back_right = d.rgb[10:20, 32:36].reshape(-1, 3).mean(0)
+    assert back_left[0] / back_left[1] > back_right[0] / back_right[1]
+
+
+def test_cancel_keeps_what_was_rendered():
+    sc = cornell_box(width=16, height=16, spp=1000)
+    calls = {"n": 0}
+
+    def cancel():
+        calls["n"] += 1
+        return calls["n"] > 2
+
+    film, stats = R.render(sc, should_cancel=cancel)
+    assert stats.cancelled and 0 < stats.spp < 1000
+    assert np.all(film.sums[..., 3] == stats.spp)
+
+
+def test_emitter_without_visible_power_is_an_error():
+    from spectral_gi.core.scene import SceneError
+    sc = furnace_scene()
+    sc.spectra.coeffs[1] = 0.0
+    sc.materials[0].emission_luminance = 0.0
+    R.prepare(sc)  # a black emitter with zero luminance is fine
+    sc.materials[0].emission_luminance = 10.0
+    with pytest.raises(SceneError, match="no visible power"):
+        R.prepare(sc)

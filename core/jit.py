@@ -2,7 +2,7 @@
 
 Every kernel in core is compiled with ``cache=True`` (the on-disk cache makes the
 second start fast) and ``nogil=True`` (so Blender's UI thread keeps running while a
-kernel works). fastmath is off: NaN and Inf must behave as IEEE says, because the
+kernel works). Fast-math flags are off: NaN and Inf must behave as IEEE says, because the
 renderer tests for them. No other module calls ``numba.njit`` directly; a test
 enforces it.
 """

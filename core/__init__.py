@@ -14,8 +14,8 @@ from .scene import (Camera, Light, Material, Mesh, RenderSettings, Scene, SceneE
 from .scene import load as load_scene
 from .scene import save as save_scene
 from .scenes import cornell_box
-from .spectra.uplift import (emission_from_rgb, emission_from_samples, reflectance_from_rgb,
-                             reflectance_from_samples)
+from .spectra.uplift import (emission_from_rgb, emission_from_samples, emission_to_rgb, reflectance_from_rgb,
+                             reflectance_from_samples, reflectance_to_rgb)
 from .units import area_light_luminance, emission_luminance
 
 __all__ = [
@@ -23,6 +23,7 @@ __all__ = [
     "Scene", "Mesh", "Material", "Light", "Camera", "World", "RenderSettings", "SpectrumTable",
     "SceneError", "validate", "load_scene", "save_scene",
     "reflectance_from_rgb", "emission_from_rgb", "reflectance_from_samples", "emission_from_samples",
+    "reflectance_to_rgb", "emission_to_rgb",
     "emission_luminance", "area_light_luminance",
     "render", "RenderStats", "kernels_compiled", "Film", "Developed", "develop",
     "write_exr", "read_exr", "write_png",

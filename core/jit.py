@@ -6,9 +6,39 @@ kernel works). Fast-math flags are off: NaN and Inf must behave as IEEE says, be
 renderer tests for them. No other module calls ``numba.njit`` directly; a test
 enforces it.
 """
+import hashlib
 import os
+from pathlib import Path
 
 import numba
+import numba.core.config
+
+
+def _source_key():
+    """Hash of every source a kernel can inline, and of the numba version.
+
+    numba's cache notices edits to the file holding an entry kernel but not to callees
+    in other files, so the cache folder is keyed by all of them.
+    """
+    core = Path(__file__).resolve().parent
+    h = hashlib.sha256(numba.__version__.encode())
+    for p in sorted([*(core / "kernels").glob("*.py"), core / "constants.py", core / "jit.py"]):
+        h.update(p.name.encode())
+        h.update(p.read_bytes())
+    return h.hexdigest()[:16]
+
+
+def _cache_base():
+    base = os.environ.get("SPECTRAL_GI_CACHE_DIR") or os.environ.get("NUMBA_CACHE_DIR")
+    if base:
+        return Path(base)
+    xdg = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(xdg) / "spectral-gi" / "numba"
+
+
+CACHE_DIR = _cache_base() / _source_key()
+# Read by numba when each cached kernel is decorated: set before any kernel module loads.
+numba.core.config.CACHE_DIR = str(CACHE_DIR)
 
 _POLICY = dict(cache=True, nogil=True, error_model="numpy")
 
@@ -39,4 +69,5 @@ def set_threads(n):
 
 
 def cache_dir():
-    return os.environ.get("NUMBA_CACHE_DIR") or "(next to the sources)"
+    """The folder holding this build's compiled kernels."""
+    return CACHE_DIR

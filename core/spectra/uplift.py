@@ -58,3 +58,48 @@ def emission_from_samples(wavelengths, values, n_coeffs=C.N_COEFFS_DEFAULT):
     if np.any(v < 0.0):
         raise ValueError("an emission spectrum must be non-negative")
     return moments.moments_from_samples(wavelengths, v, n_coeffs)
+
+
+# ----------------------------------------------------------------- back to RGB (for Cycles)
+
+
+@functools.lru_cache(maxsize=None)
+def _d65_weights():
+    """(grid, D65-weighted x̄ȳz̄ normalised so a perfect white reflector has Y = 1, x̄ȳz̄)."""
+    g = moments.grid()
+    wl, cmf = presets.cmfs()
+    xyz = np.stack([np.interp(g, wl, cmf[:, k], left=0, right=0) for k in range(3)], axis=1)
+    dwl, d65 = presets.illuminant("D65")
+    ill = np.interp(g, dwl, d65, left=0, right=0)
+    w = ill[:, None] * xyz
+    return w / w[:, 1].sum(), xyz
+
+
+def reflectance_to_rgb(coeffs):
+    """Linear Rec.709 colour of a reflectance spectrum under CIE D65 (white → (1, 1, 1)).
+
+    The colour a Cycles material needs to look like this spectrum under a white light.
+    """
+    from ..colour import XYZ_to_sRGB_linear
+    w, _ = _d65_weights()
+    r = moments.reconstruct_bounded(np.asarray(coeffs, np.float64), moments.grid())
+    return XYZ_to_sRGB_linear(r @ w)
+
+
+def emission_to_rgb(coeffs, luminance):
+    """Blender colour and strength of an emitter: ``(rgb, strength)``.
+
+    ``rgb`` is the linear Rec.709 colour of the emission spectrum with luminance weight
+    Y(rgb) = 1 (negative components, outside the Rec.709 gamut, are clipped);
+    ``strength`` = luminance / 683, so strength · rgb is Blender's radiance for it.
+    """
+    from ..colour import XYZ_to_sRGB_linear
+    _, xyz_bar = _d65_weights()
+    s = moments.reconstruct_unbounded(np.asarray(coeffs, np.float64), moments.grid())
+    XYZ = s @ xyz_bar
+    if not XYZ[1] > 0:
+        return np.ones(3), 0.0
+    rgb = np.maximum(XYZ_to_sRGB_linear(XYZ / XYZ[1]), 0.0)
+    from ..colour import luminance_rec709
+    rgb = rgb / luminance_rec709(rgb)
+    return rgb, float(luminance) / C.K_M

@@ -79,7 +79,8 @@ def _parser():
     r.add_argument("--spp", type=_positive_int, help="samples per pixel (default: the scene's, 64 for the Cornell box)")
     r.add_argument("--width", type=_positive_int, help="image width in pixels")
     r.add_argument("--height", type=_positive_int, help="image height in pixels")
-    r.add_argument("--max-depth", type=_positive_int, help="maximum number of bounces")
+    r.add_argument("--max-depth", type=_non_negative_int,
+                   help="maximum number of bounces, as Cycles' Max Bounces (0: direct light only; default 64)")
     r.add_argument("--seed", type=_non_negative_int, help="random seed")
     r.add_argument("--threads", type=_non_negative_int, default=0, help="worker threads (0: all cores)")
     r.add_argument("--out", help="output OpenEXR file (default: cornell.exr or <scene>.exr); "
@@ -124,7 +125,7 @@ def _render(args):
     st = scene.settings
     if args.spp:
         st.spp = args.spp
-    if args.max_depth:
+    if args.max_depth is not None:
         st.max_depth = args.max_depth
     if args.seed is not None:
         st.seed = args.seed

@@ -127,7 +127,7 @@ class World:
 @dataclass
 class RenderSettings:
     spp: int = 64
-    max_depth: int = 16  # maximum number of scattering events on a path
+    max_depth: int = 64  # maximum bounces, as Cycles' Max Bounces (0: direct light only)
     rr_depth: int = 3  # Russian roulette starts after this many bounces
     seed: int = 0
 
@@ -286,7 +286,7 @@ def validate(scene: Scene) -> Scene:
 
     s = scene.settings
     _check_number("settings.spp", s.spp, lo=1, hi=1 << 24, integer=True)
-    _check_number("settings.max_depth", s.max_depth, lo=1, hi=1024, integer=True)
+    _check_number("settings.max_depth", s.max_depth, lo=0, hi=1024, integer=True)
     _check_number("settings.rr_depth", s.rr_depth, lo=1, hi=1024, integer=True)
     _check_number("settings.seed", s.seed, lo=0, hi=2**32 - 1, integer=True)
     return scene

@@ -25,7 +25,7 @@ def cornell_to_blender(p_mm):
     return np.asarray(p_mm, dtype=np.float64) @ _CORNELL_TO_BLENDER.T
 
 
-def cornell_box(width=256, height=256, spp=64, max_depth=16, seed=0, n_coeffs=C.N_COEFFS_DEFAULT):
+def cornell_box(width=256, height=256, spp=64, max_depth=64, seed=0, n_coeffs=C.N_COEFFS_DEFAULT):
     """The Cornell box from Cornell's published measurements (presets/scenes/cornell_box)."""
     data = presets.load_cornell_box_data()
     spectra = SpectrumTable.empty(n_coeffs)

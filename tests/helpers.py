@@ -70,4 +70,4 @@ def disk_over_plane_scene(radius=0.5, height=1.0, rho=0.8, luminance=1000.0, kin
     light = Light("disk", kind, (0.0, 0.0, height), (0.0, radius, 0.0), (radius, 0.0, 0.0), e, luminance)
     cam = Camera(look_at((0, 0, 0.5 * height), (0, 0, 0), up=(0, 1, 0)), width=res, height=res, lens_mm=2000.0)
     return Scene(meshes=[plane], spectra=spectra, materials=[Material("plane", reflectance=r)], lights=[light],
-                 camera=cam, settings=RenderSettings(spp=spp, max_depth=1, seed=3))
+                 camera=cam, settings=RenderSettings(spp=spp, max_depth=0, seed=3))

@@ -138,3 +138,18 @@ def test_emitter_without_visible_power_is_an_error():
     sc.materials[0].emission_luminance = 10.0
     with pytest.raises(SceneError, match="no visible power"):
         R.prepare(sc)
+
+
+@pytest.mark.statistical
+@pytest.mark.parametrize("bounces", [0, 1, 3])
+def test_bounce_limit_counts_like_cycles(bounces):
+    """Max bounces B (Cycles' meaning: 0 = direct light only) keeps paths of up to B + 1
+    scattering events, so in the emitting furnace L = L_e Σ_{k=0}^{B+1} ρ^k exactly."""
+    rho, le = 0.5, 100.0
+    sc = furnace_scene(rho, le, spp=128, max_depth=bounces)
+    sc.settings.rr_depth = 1000  # no roulette: the sum is finite
+    d = develop(R.render(sc)[0].sums)
+    expected = le * sum(rho ** k for k in range(bounces + 2))
+    mean = d.luminance.mean()
+    var = d.variance.mean() / d.luminance.size
+    assert abs(_z(mean, expected, var)) < 4.5, (mean, expected)

@@ -1,5 +1,8 @@
 """The spectral path tracer kernel.
 
+Bounces are counted as in Cycles: ``max_depth`` = 0 renders direct light only, and a
+path may scatter at most ``max_depth + 1`` times.
+
 Per path: N_WAVELENGTHS wavelengths (a hero and equally offset companions in the
 primary sample space of the visible-wavelength density), next-event estimation on
 emitters (emissive triangles and analytic area lights, chosen in proportion to their
@@ -230,7 +233,7 @@ def render_pass(film, s0, s1, seed, max_depth, rr_depth, scene_scale, cam,
                             w = power_heuristic(prev_pdf, pl)
                         for i in range(NW):
                             rad[i] += beta[i] * w * mat_emis_scale[m] * lookup(spec, mat_emis[m], lam[i])
-                    if depth >= max_depth or mat_refl[m] < 0:
+                    if depth > max_depth or mat_refl[m] < 0:
                         break
                     if cos_i < 0.0:
                         nx = -nx

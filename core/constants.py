@@ -21,7 +21,7 @@ K_M = 683.0
 SCENE_FORMAT_VERSION = 1
 
 # Fourier-basis (trigonometric-moment) spectra: number of stored coefficients.
-N_COEFFS_DEFAULT = 8
+N_COEFFS_DEFAULT = 12  # chosen by measurement: see core/spectra/moments.py
 N_COEFFS_MIN = 3
 N_COEFFS_MAX = 16
 

@@ -225,6 +225,42 @@ def check_coefficients(coeffs, kind):
     return None
 
 
+def prepare(coeffs, kind):
+    """The float64[4m] row that ``core.kernels.spectrum`` evaluates (see its layout)."""
+    c = np.asarray(coeffs, dtype=np.float64)
+    m = c.size
+    row = np.zeros(4 * m)
+    if kind == C.SPECTRUM_BOUNDED:
+        if c[0] <= _EDGE or c[0] >= 1.0 - _EDGE:
+            # constant 0 or 1: h = a_0 with arg(a_0) = π (v - 1/2), poly = 1
+            v = 0.0 if c[0] <= _EDGE else 1.0
+            row[0] = np.cos(np.pi * (v - 0.5))
+            row[m] = np.sin(np.pi * (v - 0.5))
+            row[2 * m] = 1.0
+            return row
+        a, q = _bounded_prepare(c)
+        row[:m], row[m:2 * m], row[2 * m:3 * m], row[3 * m:] = a.real, a.imag, q.real, q.imag
+        return row
+    if kind == C.SPECTRUM_UNBOUNDED:
+        if c[0] <= 0.0:
+            return row
+        t = _toeplitz_hermitian(c.astype(np.complex128)).real
+        e0 = np.zeros(m)
+        e0[0] = 1.0
+        row[:m] = np.linalg.solve(t, e0)
+        return row
+    raise ValueError(f"unknown spectrum kind {kind}")
+
+
+def prepare_table(coeffs, kinds):
+    """Prepared rows of S spectra: float64 (S, 4m)."""
+    coeffs = np.asarray(coeffs, dtype=np.float64)
+    out = np.zeros((coeffs.shape[0], 4 * coeffs.shape[1]))
+    for i, (c, k) in enumerate(zip(coeffs, kinds)):
+        out[i] = prepare(c, int(k))
+    return out
+
+
 def tabulate(coeffs, kinds):
     """Reconstruct S spectra on the renderer's grid: float32 (S, N_LAMBDA)."""
     wl = grid()

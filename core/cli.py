@@ -85,6 +85,9 @@ def _parser():
     r.add_argument("--threads", type=_non_negative_int, default=0, help="worker threads (0: all cores)")
     r.add_argument("--out", help="output OpenEXR file (default: cornell.exr or <scene>.exr); "
                                  "the sRGB PNG preview is written beside it")
+    r.add_argument("--spectral-bins", type=_non_negative_int, default=0,
+                   help="also write the spectral radiance in this many bins of 360-830 nm as "
+                        "S0.<wavelength>nm channels (Fichet et al. 2021 layout; default 0: off)")
     r.add_argument("--exposure", type=float, default=0.0, help="exposure of the PNG preview in stops (default 0)")
     s = sub.add_parser("save-default-scene", help="write the built-in Cornell box as a scene file")
     s.add_argument("out", help="output scene file (.json; the .npz is written beside it)")
@@ -150,13 +153,14 @@ def _render(args):
         bar.status(f"Rendering {scene.metadata.get('name', args.scene or 'scene')}: {cam.width}x{cam.height}, "
                    f"{st.spp} spp, max depth {st.max_depth}, {scene.n_triangles} triangles")
         film, stats = render(scene, threads=args.threads or None, progress=bar, status=bar.status,
-                             should_cancel=lambda: stop["requested"])
+                             should_cancel=lambda: stop["requested"], spectral_bins=args.spectral_bins)
     finally:
         signal.signal(signal.SIGINT, old)
     dev = develop(film.sums)
     attrs = {"spectralgi.spp": str(stats.spp), "spectralgi.seed": str(st.seed),
              "spectralgi.maxDepth": str(st.max_depth)}
-    write_render(out, dev, attrs)
+    spectral = (film.bin_centres(), film.spectral_radiance()) if film.spectral_bins else None
+    write_render(out, dev, attrs, spectral=spectral)
     write_png(png, dev.rgb, args.exposure)
     sys.stderr.write(f"{stats.spp} spp in {stats.seconds:.2f} s ({stats.samples_per_second / 1e6:.2f} M samples/s"
                      f"; BVH {stats.build_seconds:.2f} s"

@@ -13,15 +13,36 @@ from .colour import XYZ_to_sRGB_linear
 
 
 class Film:
-    def __init__(self, width, height):
+    """Per-pixel sums. ``spectral_bins`` > 0 also keeps the spectral radiance in that many
+    equal bins of [LAMBDA_MIN, LAMBDA_MAX] (for spectral OpenEXR output)."""
+
+    def __init__(self, width, height, spectral_bins=0):
         self.width = int(width)
         self.height = int(height)
         self.sums = np.zeros((self.height, self.width, C.FILM_CHANNELS), dtype=np.float64)
+        n = int(spectral_bins)
+        self.spectral = np.zeros((self.height, self.width, n) if n > 0 else (1, 1, 0), dtype=np.float64)
         self.spp = 0
+
+    @property
+    def spectral_bins(self):
+        return self.spectral.shape[2]
+
+    def bin_centres(self):
+        """Centre wavelength (nm) of each spectral bin."""
+        n = self.spectral_bins
+        w = (C.LAMBDA_MAX - C.LAMBDA_MIN) / max(n, 1)
+        return C.LAMBDA_MIN + w * (np.arange(n) + 0.5)
+
+    def spectral_radiance(self):
+        """(H, W, B) mean spectral radiance per bin, W/(m² sr nm)."""
+        n = np.maximum(self.sums[..., 3], 1.0)
+        return self.spectral / n[..., None]
 
     def copy(self):
         f = Film(self.width, self.height)
         f.sums = self.sums.copy()
+        f.spectral = self.spectral.copy()
         f.spp = self.spp
         return f
 

@@ -235,7 +235,7 @@ def run_pass(prep: Prepared, film: Film, s0: int, s1: int):
                     prep.mat_refl, prep.mat_emis, prep.mat_emis_scale, prep.mat_emis_two, prep.spec, prep.cmf,
                     prep.light_kind, prep.light_geo, prep.light_spec, prep.light_scale, prep.light_two_sided,
                     prep.light_visible, prep.emit_cdf, prep.emit_prob, prep.emit_tri, prep.emit_light,
-                    int(prep.world_spec), float(prep.world_scale))
+                    int(prep.world_spec), float(prep.world_scale), film.spectral)
     film.spp = s1
 
 
@@ -255,13 +255,15 @@ def kernels_compiled():
     return bool(render_pass.signatures)
 
 
-def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_pass=None, status=None):
+def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_pass=None, status=None,
+           spectral_bins=0):
     """Render ``scene`` to a :class:`Film`.
 
     progress(done_spp, total_spp, samples_per_second) after each pass;
     should_cancel() → True stops after the current pass (the film keeps what was done);
     on_pass(film) after each pass (for progressive display);
-    status(text) for phase messages ("Compiling kernels (first run only)", ...).
+    status(text) for phase messages ("Compiling kernels (first run only)", ...);
+    spectral_bins > 0 also records the spectral radiance in that many bins.
     Returns (film, RenderStats).
     """
     say = status or (lambda text: None)
@@ -269,7 +271,7 @@ def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_
     say("Preparing scene")
     prep = prepare(scene)
     cam = scene.camera
-    film = Film(cam.width, cam.height)
+    film = Film(cam.width, cam.height, spectral_bins)
     total = int(scene.settings.spp)
     t_compile = 0.0
     if not kernels_compiled():

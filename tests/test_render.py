@@ -153,3 +153,28 @@ def test_bounce_limit_counts_like_cycles(bounces):
     mean = d.luminance.mean()
     var = d.variance.mean() / d.luminance.size
     assert abs(_z(mean, expected, var)) < 4.5, (mean, expected)
+
+
+@pytest.mark.statistical
+def test_spectral_film_bins_hold_the_spectral_radiance():
+    """With flat emission and reflectance the radiance is flat: every bin holds L_e/(1-ρ)
+    in W/(m² sr nm), with L_e = luminance / (K_m ∫ ȳ dλ)."""
+    from spectral_gi.core import presets
+    from spectral_gi.core.io.exr import read_channels, spectral_channel_name, write_render
+    rho, lum = 0.5, 100.0
+    sc = furnace_scene(rho, lum, spp=1024)
+    film, _ = R.render(sc, spectral_bins=10)
+    wl, cmf = presets.cmfs()
+    le = lum / (C.K_M * np.sum(cmf[:, 1]))  # 1 nm table
+    per_bin = film.spectral_radiance().mean(axis=(0, 1))
+    np.testing.assert_allclose(per_bin, le / (1 - rho), rtol=0.02)  # the end bins are sampled least
+    np.testing.assert_allclose(film.bin_centres()[[0, -1]], [383.5, 806.5])
+    assert spectral_channel_name(383.5) == "S0.383,5nm" and spectral_channel_name(550) == "S0.550nm"
+    import tempfile
+    from pathlib import Path
+    with tempfile.TemporaryDirectory() as d:
+        p = Path(d) / "s.exr"
+        write_render(p, develop(film.sums), spectral=(film.bin_centres(), film.spectral_radiance()))
+        ch, header = read_channels(p)
+        assert header["spectralLayoutVersion"] == "1.0" and header["emissiveUnits"] == "W.m^-2.sr^-1"
+        np.testing.assert_allclose(ch["S0.383,5nm"], film.spectral_radiance()[..., 0], rtol=1e-6)

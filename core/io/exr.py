@@ -6,6 +6,8 @@ Channels of a render:
 * ``XYZ.X, XYZ.Y, XYZ.Z`` CIE 1931 XYZ on the same scale (Y = 1 is 683 cd/m²)
 * ``Luminance.Y``        absolute luminance, cd/m²
 * ``Variance.Y``         variance of the pixel's mean luminance, (cd/m²)²
+* ``S0.<λ>nm``           optional spectral radiance per wavelength bin, W/(m²·sr·nm), in
+                         the layout of Fichet, Pacanowski and Wilkie (JCGT 10(3), 2021)
 """
 import numpy as np
 
@@ -55,8 +57,19 @@ def read_channels(path):
     return chans, header
 
 
-def write_render(path, developed, attributes=None):
-    """Write a developed film (see core.film.Developed) with the channels listed above."""
+def spectral_channel_name(wavelength_nm, stokes=0):
+    """Channel name of Fichet, Pacanowski and Wilkie's spectral layout (JCGT 10(3), 2021):
+    ``S0.<wavelength>nm`` with a comma as the decimal separator (a dot separates layers)."""
+    text = f"{float(wavelength_nm):.6f}".rstrip("0").rstrip(".")
+    return f"S{int(stokes)}.{text.replace('.', ',')}nm"
+
+
+def write_render(path, developed, attributes=None, spectral=None):
+    """Write a developed film (see core.film.Developed) with the channels listed above.
+
+    spectral: optional (wavelengths_nm[B], radiance[H, W, B]) written as emissive
+    channels of the Fichet et al. 2021 layout (spectral radiance, W/(m² sr nm)).
+    """
     from .. import constants as C
 
     rgb = developed.rgb
@@ -73,5 +86,12 @@ def write_render(path, developed, attributes=None):
         "chromaticities": (0.64, 0.33, 0.30, 0.60, 0.15, 0.06, 0.3127, 0.3290),
         "software": "spectral-gi",
     }
+    if spectral is not None:
+        wls, rad = spectral
+        for k, w in enumerate(wls):
+            channels[spectral_channel_name(w)] = rad[..., k]
+        attrs["spectralLayoutVersion"] = "1.0"
+        attrs["emissiveUnits"] = "W.m^-2.sr^-1"
+        attrs["polarisationHandedness"] = "right"
     attrs.update(attributes or {})
     return write_channels(path, channels, attrs)

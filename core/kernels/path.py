@@ -88,6 +88,16 @@ def lookup_cmf(cmf, k, lam):
 
 
 @inline
+def terminate_secondary(pdf_lam):
+    """After a dispersive event only the hero wavelength's path is valid (Wilkie et al.
+    2014): the companions are dropped and the hero's estimate is no longer averaged
+    with theirs."""
+    pdf_lam[0] /= NW
+    for i in range(1, NW):
+        pdf_lam[i] = 0.0
+
+
+@inline
 def power_heuristic(pa, pb):
     a = pa * pa
     b = pb * pb
@@ -131,8 +141,11 @@ def render_pass(film, s0, s1, seed, max_depth, rr_depth, scene_scale, cam,
                 spec, cmf,
                 light_kind, light_geo, light_spec, light_scale, light_two_sided, light_visible,
                 emit_cdf, emit_prob, emit_tri, emit_light,
-                world_spec, world_scale):
+                world_spec, world_scale, spectral):
     """Add samples s0 .. s1-1 of every pixel to ``film`` (H, W, 5) float64.
+
+    spectral: (H, W, B) float64 sums of the spectral radiance averaged over B equal bins
+    of [LMIN, LMAX] (W/(m² sr nm)); pass a (1, 1, 0) array to skip it.
 
     light_geo: float64 (L, 13): centre(3), half-axis u(3), half-axis v(3), unit normal(3), area.
     emit_*: the emitter distribution over emissive triangles (emit_tri ≥ 0, leaf order)
@@ -140,6 +153,8 @@ def render_pass(film, s0, s1, seed, max_depth, rr_depth, scene_scale, cam,
     """
     height = film.shape[0]
     width = film.shape[1]
+    n_bins = spectral.shape[2]
+    bin_width = (LMAX - LMIN) / max(n_bins, 1)
     n_emit = emit_prob.shape[0]
     n_lights = light_kind.shape[0]
     eps = EPS_REL * scene_scale
@@ -377,6 +392,11 @@ def render_pass(film, s0, s1, seed, max_depth, rr_depth, scene_scale, cam,
                         X += v * lookup_cmf(cmf, 0, lam[i])
                         Y += v * lookup_cmf(cmf, 1, lam[i])
                         Z += v * lookup_cmf(cmf, 2, lam[i])
+                        if n_bins > 0:
+                            b = int((lam[i] - LMIN) / bin_width)
+                            if b >= n_bins:
+                                b = n_bins - 1
+                            spectral[y, x, b] += v / bin_width
                 film[y, x, 0] += X
                 film[y, x, 1] += Y
                 film[y, x, 2] += Z

@@ -167,7 +167,9 @@ def test_spectral_film_bins_hold_the_spectral_radiance():
     wl, cmf = presets.cmfs()
     le = lum / (C.K_M * np.sum(cmf[:, 1]))  # 1 nm table
     per_bin = film.spectral_radiance().mean(axis=(0, 1))
-    np.testing.assert_allclose(per_bin, le / (1 - rho), rtol=0.02)  # the end bins are sampled least
+    # each bin is an independent estimate with the noise of the random walk (a few %)
+    np.testing.assert_allclose(per_bin, le / (1 - rho), rtol=0.05)
+    assert per_bin.mean() == pytest.approx(le / (1 - rho), rel=0.01)
     np.testing.assert_allclose(film.bin_centres()[[0, -1]], [383.5, 806.5])
     assert spectral_channel_name(383.5) == "S0.383,5nm" and spectral_channel_name(550) == "S0.550nm"
     import tempfile

@@ -4,8 +4,8 @@ Everything here uses the standard library and numpy only: Blender's bundled
 Python has no colour-science, so the shipped CSV files are the single source
 of spectral data at render time.  The files themselves are produced by
 :func:`spectral_gi.core.tables.generate_tables` (colour-science tables) or
-were transcribed by hand (the Cornell box); ``presets/README.md`` documents
-every file.
+were transcribed by hand (the Cornell box, metal optical constants, glass
+dispersion formulas); ``presets/README.md`` documents every file.
 
 CSV convention used by every table in ``presets/``:
 
@@ -43,6 +43,14 @@ _OBSERVER_ALIASES = {
 
 ILLUMINANTS_DIR = "illuminants"
 MALLETT2019_FILE = "uplift/mallett2019_srgb.csv"
+COLORCHECKER_FILE = "colorchecker/colorchecker_n_ohta.csv"
+METALS_DIR = "metals"
+GLASSES_FILE = "glasses.toml"
+
+GLASS_FORMULAS = {
+    "sellmeier": ("B1", "B2", "B3", "C1", "C2", "C3"),
+    "cauchy": ("A", "B_nm2"),
+}
 
 CORNELL_BOX_DIR = "scenes/cornell_box"
 CORNELL_MATERIALS = ("white", "red", "green", "light")
@@ -164,6 +172,82 @@ def mallett2019_basis() -> tuple[np.ndarray, np.ndarray]:
     wl, values, names = read_table(MALLETT2019_FILE)
     _expect_columns(MALLETT2019_FILE, names, ["r", "g", "b"])
     return wl, values
+
+
+def colorchecker_table() -> tuple[np.ndarray, np.ndarray, list[str]]:
+    """ColorChecker reflectances (N. Ohta): ``(wl[N], values[N, 24], patch_names[24])``.
+
+    380..780 nm, 5 nm; columns in the chart's standard order (dark skin ... black 2).
+    """
+    wl, values, names = read_table(COLORCHECKER_FILE)
+    if len(names) != 24:
+        raise ValueError(f"{_resolve(COLORCHECKER_FILE)}: expected 24 patch columns, got {len(names)}")
+    return wl, values, names
+
+
+def metal_names() -> list[str]:
+    """Names (chemical symbols) of the metals shipped in ``presets/metals``."""
+    return sorted(p.stem for p in (PRESETS_DIR / METALS_DIR).glob("*.csv"))
+
+
+def metal_table(name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Complex refractive index of a metal as tabulated: ``(wl[N], eta[N], k[N])``."""
+    relpath = Path(METALS_DIR) / f"{name}.csv"
+    if "/" in name or "\\" in name or not _resolve(relpath).is_file():
+        raise ValueError(f"unknown metal {name!r}; available: {metal_names()}")
+    wl, values, names = read_table(relpath)
+    _expect_columns(relpath, names, ["eta", "k"])
+    return wl, values[:, 0].copy(), values[:, 1].copy()
+
+
+def glasses() -> dict[str, dict]:
+    """Glass dispersion formulas from ``presets/glasses.toml``, validated.
+
+    Returns ``{name: entry}``; each entry is the TOML table with ``formula``
+    (``"sellmeier"``: keys ``B1..B3`` and ``C1..C3`` in µm²; ``"cauchy"``: keys
+    ``A``, ``B_nm2`` and optional ``C_nm4``, filled with 0.0 when absent), the
+    published ``nd`` and ``abbe``, ``range_nm``, ``description`` and ``source``.
+    Numbers are returned as floats.
+    """
+    path = _resolve(GLASSES_FILE)
+    try:
+        with path.open("rb") as fh:
+            doc = tomllib.load(fh)
+    except tomllib.TOMLDecodeError as exc:
+        raise ValueError(f"{path}: invalid TOML: {exc}") from None
+    if doc.get("schema") != 1:
+        raise ValueError(f"{path}: unsupported schema {doc.get('schema')!r} (expected 1)")
+    table = doc.get("glass")
+    if not isinstance(table, dict) or not table:
+        raise ValueError(f"{path}: no [glass.<name>] tables")
+    out: dict[str, dict] = {}
+    for name, entry in table.items():
+        formula = entry.get("formula") if isinstance(entry, dict) else None
+        if formula not in GLASS_FORMULAS:
+            raise ValueError(
+                f"{path}: glass {name!r} has formula {formula!r}; expected one of {sorted(GLASS_FORMULAS)}"
+            )
+        result = dict(entry)
+        keys = GLASS_FORMULAS[formula] + ("nd", "abbe")
+        if formula == "cauchy":
+            result.setdefault("C_nm4", 0.0)
+            keys = keys + ("C_nm4",)
+        for key in keys:
+            value = result.get(key)
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise ValueError(f"{path}: glass {name!r}: {key} must be a finite number, got {value!r}")
+            result[key] = float(value)
+        rng = result.get("range_nm")
+        if not (
+            isinstance(rng, list)
+            and len(rng) == 2
+            and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in rng)
+            and 0 < rng[0] < rng[1]
+        ):
+            raise ValueError(f"{path}: glass {name!r}: range_nm must be [min, max] in nm, got {rng!r}")
+        result["range_nm"] = (float(rng[0]), float(rng[1]))
+        out[name] = result
+    return out
 
 
 def load_cornell_box_data() -> dict:

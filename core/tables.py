@@ -10,14 +10,17 @@ Usage::
                from spectral_gi.core.presets import PRESETS_DIR; \\
                generate_tables(PRESETS_DIR)"
 
-The hand-transcribed Cornell box files under ``presets/scenes/`` are not
-generated and are never touched here.
+The hand-transcribed files (the Cornell box under ``presets/scenes/``, the
+metal optical constants under ``presets/metals/`` and ``presets/glasses.toml``)
+are not generated and are never touched here.
 """
 
 from __future__ import annotations
 
 import os
 from pathlib import Path
+
+import numpy as np
 
 from .io.atomic import write_text
 
@@ -27,8 +30,19 @@ CMFS_OUTPUTS = {
     "CIE 1964 10 Degree Standard Observer": "cie/cie1964_10deg.csv",
 }
 
-# colour.SDS_ILLUMINANTS keys, each written to illuminants/<key>.csv.
-ILLUMINANT_KEYS = ("A", "D50", "D55", "D65", "D75", "E", "FL2", "FL11")
+# colour.SDS_ILLUMINANTS keys, each written to illuminants/<key>.csv (the file
+# stem is colour-science's name, e.g. "FL11" for CIE F11, "LED-B1" for CIE LED-B1).
+ILLUMINANT_KEYS = (
+    "A", "D50", "D55", "D65", "D75", "E",
+    # CIE fluorescent illuminants F1..F12 (CIE 015:2018).
+    "FL1", "FL2", "FL3", "FL4", "FL5", "FL6", "FL7", "FL8", "FL9", "FL10", "FL11", "FL12",
+    # CIE LED illuminants (introduced in CIE 015:2018).
+    "LED-B1", "LED-B2", "LED-B3", "LED-B4", "LED-B5", "LED-BH1", "LED-RGB1", "LED-V1", "LED-V2",
+)
+
+# The 24 patches of the ColorChecker (N. Ohta's measurement), one column per patch.
+COLORCHECKER_KEY = "ColorChecker N Ohta"
+COLORCHECKER_OUTPUT = "colorchecker/colorchecker_n_ohta.csv"
 
 MALLETT2019_OUTPUT = "uplift/mallett2019_srgb.csv"
 
@@ -56,7 +70,8 @@ def generate_tables(out_dir: str | os.PathLike) -> list[Path]:
     """Rebuild every colour-science-derived table under ``out_dir``.
 
     ``out_dir`` plays the role of ``presets/``; the files written are
-    ``cie/*.csv``, ``illuminants/*.csv`` and ``uplift/mallett2019_srgb.csv``.
+    ``cie/*.csv``, ``illuminants/*.csv``, ``colorchecker/colorchecker_n_ohta.csv``
+    and ``uplift/mallett2019_srgb.csv``.
     Returns the list of paths written.
     """
     import colour  # developer-only dependency, deliberately not at module level
@@ -85,6 +100,21 @@ def generate_tables(out_dir: str | os.PathLike) -> list[Path]:
     for key in ILLUMINANT_KEYS:
         sd = colour.SDS_ILLUMINANTS[key]
         emit(f"illuminants/{key}.csv", ["wavelength_nm", "value"], sd.wavelengths, [sd.values])
+
+    patches = colour.SDS_COLOURCHECKERS[COLORCHECKER_KEY]
+    names = list(patches)
+    if len(names) != 24:
+        raise RuntimeError(f"expected 24 ColorChecker patches, got {len(names)}")
+    first = patches[names[0]]
+    for name in names:
+        if "," in name or not np.array_equal(patches[name].wavelengths, first.wavelengths):
+            raise RuntimeError(f"ColorChecker patch {name!r} cannot share one table")
+    emit(
+        COLORCHECKER_OUTPUT,
+        ["wavelength_nm"] + names,
+        first.wavelengths,
+        [patches[name].values for name in names],
+    )
 
     basis = colour.recovery.MSDS_BASIS_FUNCTIONS_sRGB_MALLETT2019
     if list(basis.labels) != ["red", "green", "blue"]:

@@ -147,7 +147,7 @@ def resolve_illuminant_name(name: str) -> str:
     by_key = {_squash(n): n for n in names}
     key = _squash(name)
     for prefix in ("ILLUMINANT", "CIE"):
-        if key.startswith(prefix) and key[len(prefix):] in by_key:
+        if key.startswith(prefix) and key not in by_key:
             key = key[len(prefix):]
     if key not in by_key and key.startswith("F") and key[1:].isdigit():
         key = "FL" + key[1:]

@@ -16,7 +16,7 @@ from .scene import save as save_scene
 from .scenes import cornell_box
 from .spectra.uplift import (emission_from_rgb, emission_from_samples, emission_to_rgb, reflectance_from_rgb,
                              reflectance_from_samples, reflectance_to_rgb)
-from .units import area_light_luminance, emission_luminance
+from .units import EMITTER_UNITS, area_light_luminance, emission_luminance, emitter_luminance
 
 __all__ = [
     "constants",
@@ -24,7 +24,7 @@ __all__ = [
     "SceneError", "validate", "load_scene", "save_scene",
     "reflectance_from_rgb", "emission_from_rgb", "reflectance_from_samples", "emission_from_samples",
     "reflectance_to_rgb", "emission_to_rgb",
-    "emission_luminance", "area_light_luminance",
+    "emission_luminance", "area_light_luminance", "emitter_luminance", "EMITTER_UNITS",
     "render", "RenderStats", "kernels_compiled", "Film", "Developed", "develop",
     "write_exr", "read_exr", "write_png",
     "cornell_box", "load_cornell_box_data",

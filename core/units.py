@@ -29,3 +29,43 @@ def area_light_luminance(power_w, area_m2, rgb):
         raise ValueError(f"area light: area must be positive, got {area_m2}")
     radiance = float(power_w) / (math.pi * float(area_m2))
     return BLENDER_LM_PER_W * radiance * max(0.0, float(luminance_rec709(rgb)))
+
+
+EMITTER_UNITS = ("cd/m2", "lm", "cd", "W", "blender_W")
+
+
+def emitter_luminance(unit, value, area_m2, two_sided=False, shape=None):
+    """Luminance (cd/m²) of a uniform Lambertian emitter given one photometric or radiometric number.
+
+    As in pbrt-v4, the spectrum sets the colour and one number the brightness:
+
+    * ``"cd/m2"``: the luminance itself;
+    * ``"lm"``: luminous flux Φ over all emitting sides: L = Φ / (π A · sides);
+    * ``"cd"``: luminous intensity along the normal: I = L A, so L = I / A;
+    * ``"W"``: radiant flux of the spectrum ``shape`` = (wavelengths_nm, values):
+      Φ = W · K_m ∫V S / ∫S, then as for lumens;
+    * ``"blender_W"``: Blender's watts at 683 lm/W for a white light (Cycles' area lights).
+    """
+    from .photometry import luminous_efficacy
+
+    v = float(value)
+    a = float(area_m2)
+    if not math.isfinite(v) or v < 0.0:
+        raise ValueError(f"emitter {unit}: the value must be a finite number ≥ 0, got {value}")
+    if unit == "cd/m2":
+        return v
+    if not a > 0.0:
+        raise ValueError(f"emitter area must be positive, got {area_m2}")
+    sides = 2.0 if two_sided else 1.0
+    if unit == "lm":
+        return v / (math.pi * a * sides)
+    if unit == "cd":
+        return v / a
+    if unit == "blender_W":
+        return BLENDER_LM_PER_W * v / (math.pi * a * sides)
+    if unit == "W":
+        if shape is None:
+            raise ValueError("emitter in W: the spectrum shape is needed to turn watts into lumens")
+        wl, s = shape
+        return float(luminous_efficacy(wl, s)) * v / (math.pi * a * sides)
+    raise ValueError(f"unknown emitter unit {unit!r}; use one of {', '.join(EMITTER_UNITS)}")

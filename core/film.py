@@ -9,7 +9,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import constants as C
-from .colour import XYZ_to_sRGB_linear
+from .colour import XYZ_to_Lab, XYZ_to_Luv, XYZ_to_sRGB_linear, XYZ_to_xyY, chromatic_adaptation_Bradford
+
+D65_XY = (0.3127, 0.3290)
 
 
 class Film:
@@ -57,9 +59,22 @@ class Developed:
     luminance: np.ndarray  # (H, W) cd/m²
     variance: np.ndarray  # (H, W) variance of the pixel's mean luminance, (cd/m²)²
     count: np.ndarray  # (H, W) samples per pixel
+    xyY: np.ndarray = None  # (H, W, 3) chromaticity x, y and luminance Y in cd/m²
+    Lab: np.ndarray = None  # (H, W, 3) CIE L*a*b* against the reference white below
+    Luv: np.ndarray = None  # (H, W, 3) CIE L*u*v* against the reference white below
+    white_luminance: float = C.K_M  # cd/m² of the reference white (L* = 100)
+    white_xy: tuple = D65_XY  # chromaticity of the reference white
 
 
-def develop(sums):
+def develop(sums, white_luminance=C.K_M, white_balance=None):
+    """Turn film sums into images.
+
+    white_luminance: luminance (cd/m²) of the white that L* = 100 refers to; the default
+    683 cd/m² is Blender's RGB (1, 1, 1). The reference white's chromaticity is D65.
+    white_balance: None, or the xy chromaticity of the scene's light: then ``rgb`` (and
+    only ``rgb``) is adapted from that white to D65 with Bradford's transform, as a
+    camera's white balance would; XYZ, xyY, Lab and Luv stay unadapted.
+    """
     n = sums[..., 3]
     safe = np.maximum(n, 1.0)
     XYZ = sums[..., :3] / safe[..., None]
@@ -69,5 +84,16 @@ def develop(sums):
     var_sample = np.maximum(mean_y2 - mean_y * mean_y, 0.0) * safe / np.maximum(safe - 1.0, 1.0)
     variance = (C.K_M ** 2) * var_sample / safe
     variance[n < 2] = np.inf
-    return Developed(XYZ=XYZ, rgb=XYZ_to_sRGB_linear(XYZ), luminance=C.K_M * mean_y,
-                     variance=variance, count=n.copy())
+    rgb_xyz = XYZ
+    d65 = np.array([D65_XY[0] / D65_XY[1], 1.0, (1 - D65_XY[0] - D65_XY[1]) / D65_XY[1]])
+    if white_balance is not None:
+        wx, wy = float(white_balance[0]), float(white_balance[1])
+        src = np.array([wx / wy, 1.0, (1 - wx - wy) / wy])
+        rgb_xyz = chromatic_adaptation_Bradford(XYZ, src, d65)
+    scale = C.K_M / float(white_luminance)  # film units → units of the reference white
+    xyY = XYZ_to_xyY(XYZ, illuminant=np.array(D65_XY))
+    xyY[..., 2] *= C.K_M
+    return Developed(XYZ=XYZ, rgb=XYZ_to_sRGB_linear(rgb_xyz), luminance=C.K_M * mean_y,
+                     variance=variance, count=n.copy(), xyY=xyY,
+                     Lab=XYZ_to_Lab(XYZ * scale, np.array(D65_XY)), Luv=XYZ_to_Luv(XYZ * scale, np.array(D65_XY)),
+                     white_luminance=float(white_luminance), white_xy=D65_XY)

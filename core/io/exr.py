@@ -6,6 +6,9 @@ Channels of a render:
 * ``XYZ.X, XYZ.Y, XYZ.Z`` CIE 1931 XYZ on the same scale (Y = 1 is 683 cd/m²)
 * ``Luminance.Y``        absolute luminance, cd/m²
 * ``Variance.Y``         variance of the pixel's mean luminance, (cd/m²)²
+* ``xyY.x, xyY.y, xyY.Y`` chromaticity and luminance (cd/m²)
+* ``Lab.L/a/b``, ``Luv.L/u/v`` CIE 1976 L*a*b* and L*u*v* against a D65 white of the
+                         luminance in the ``spectralgi.referenceWhite`` attribute
 * ``S0.<λ>nm``           optional spectral radiance per wavelength bin, W/(m²·sr·nm), in
                          the layout of Fichet, Pacanowski and Wilkie (JCGT 10(3), 2021)
 """
@@ -81,10 +84,19 @@ def write_render(path, developed, attributes=None, spectral=None):
         "Luminance.Y": developed.luminance,
         "Variance.Y": var,
     }
+    for layer, arr, names in (("xyY", developed.xyY, "xyY"), ("Lab", developed.Lab, "Lab"),
+                              ("Luv", developed.Luv, "Luv")):
+        if arr is not None:
+            for k, nm in enumerate(names):
+                channels[f"{layer}.{nm}"] = arr[..., k]
     attrs = {
         "whiteLuminance": float(C.K_M),
         "chromaticities": (0.64, 0.33, 0.30, 0.60, 0.15, 0.06, 0.3127, 0.3290),
         "software": "spectral-gi",
+        "spectralgi.referenceWhite": f"CIE D65 (x={developed.white_xy[0]}, y={developed.white_xy[1]}), "
+                                     f"{developed.white_luminance:g} cd/m^2 (L* = 100)",
+        "spectralgi.units": "R,G,B,XYZ: relative, 1 = 683 cd/m^2; Luminance.Y, xyY.Y: cd/m^2; "
+                            "Variance.Y: (cd/m^2)^2",
     }
     if spectral is not None:
         wls, rad = spectral

@@ -76,6 +76,13 @@ def _parser():
     sub = p.add_subparsers(dest="command", required=True)
     r = sub.add_parser("render", help="render a scene file (default: the Cornell box) to OpenEXR + PNG")
     r.add_argument("scene", nargs="?", help="scene file (.json with its .npz beside it) or scene folder")
+    r.add_argument("--builtin", choices=("cornell", "colorchecker"),
+                   help="render a built-in scene instead of a file (default: cornell)")
+    r.add_argument("--light", help="emission spectrum of the built-in scene's light: blackbody:<K> or a CIE "
+                                   "illuminant name (D65, A, F11, LED-B3, ...)")
+    r.add_argument("--white-balance", default="none",
+                   help="white balance of the RGB/PNG output: none (default), light (the scene's brightest "
+                        "light), or x,y chromaticity; XYZ, Lab and Luv are never adapted")
     r.add_argument("--spp", type=_positive_int, help="samples per pixel (default: the scene's, 64 for the Cornell box)")
     r.add_argument("--width", type=_positive_int, help="image width in pixels")
     r.add_argument("--height", type=_positive_int, help="image height in pixels")
@@ -94,6 +101,31 @@ def _parser():
     return p
 
 
+def _white_balance(text, scene):
+    """None, or the xy chromaticity the RGB output is balanced from."""
+    from .scene import SceneError
+    from .spectra.fit import emission_XYZ
+
+    t = (text or "none").strip().lower()
+    if t == "none":
+        return None
+    if t == "light":
+        emitters = [(li.luminance, li.spectrum) for li in scene.lights]
+        emitters += [(m.emission_luminance, m.emission) for m in scene.materials if m.emission >= 0]
+        if not emitters:
+            raise SceneError("--white-balance light: the scene has no light")
+        _, s = max(emitters)
+        XYZ = emission_XYZ(scene.spectra.coeffs[s])
+        return (XYZ[0] / XYZ.sum(), XYZ[1] / XYZ.sum())
+    try:
+        x, y = (float(v) for v in t.split(","))
+    except ValueError:
+        raise SceneError(f"--white-balance: expected none, light or x,y; got {text!r}") from None
+    if not (0 < x < 1 and 0 < y < 1 and x + y < 1):
+        raise SceneError(f"--white-balance: ({x}, {y}) is not a chromaticity")
+    return (x, y)
+
+
 def _fail(msg, code=EXIT_USAGE):
     sys.stderr.write(f"spectral-gi: error: {msg}\n")
     return code
@@ -108,13 +140,23 @@ def _render(args):
     from .scene import SceneError, load, validate
     from .scenes import cornell_box
 
+    from .scenes import BUILTIN_SCENES
+
+    if args.scene and args.builtin:
+        raise SceneError("give either a scene file or --builtin, not both")
     if args.scene:
+        if args.light:
+            raise SceneError("--light applies to built-in scenes only")
         scene = load(args.scene)
         default_out = Path(args.scene).with_suffix("").name + ".exr" if Path(args.scene).suffix else \
             Path(args.scene).name + ".exr"
     else:
-        scene = cornell_box()
-        default_out = "cornell.exr"
+        name = args.builtin or "cornell"
+        if args.light and name == "cornell":
+            raise SceneError("--light: the Cornell box keeps its measured light")
+        scene = BUILTIN_SCENES[name](light=args.light) if args.light else BUILTIN_SCENES[name]()
+        default_out = f"{name}.exr"
+    white_balance = _white_balance(args.white_balance, scene)
     cam = scene.camera
     if args.width or args.height:
         if args.width and args.height:
@@ -156,7 +198,7 @@ def _render(args):
                              should_cancel=lambda: stop["requested"], spectral_bins=args.spectral_bins)
     finally:
         signal.signal(signal.SIGINT, old)
-    dev = develop(film.sums)
+    dev = develop(film.sums, white_balance=white_balance)
     attrs = {"spectralgi.spp": str(stats.spp), "spectralgi.seed": str(st.seed),
              "spectralgi.maxDepth": str(st.max_depth)}
     spectral = (film.bin_centres(), film.spectral_radiance()) if film.spectral_bins else None

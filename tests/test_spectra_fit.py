@@ -103,3 +103,15 @@ def test_warp_is_monotonic_and_spans_the_phase_range():
     # more phase per nm at 555 nm than at 380 nm or 800 nm
     dw = np.diff(w)
     assert dw[195] > 3 * dw[20] and dw[195] > 3 * dw[440]
+
+
+def test_texture_uplift_is_linear_bounded_and_nan_safe():
+    rng = np.random.default_rng(8)
+    tex = rng.uniform(-0.2, 1.2, (4, 5, 3))
+    tex[0, 0] = [np.nan, np.inf, -np.inf]
+    c = uplift.reflectance_from_rgb_array(tex)
+    assert c.shape == (4, 5, C.N_COEFFS_DEFAULT)
+    for row in c.reshape(-1, C.N_COEFFS_DEFAULT):
+        assert M.check_coefficients(row, C.SPECTRUM_BOUNDED) is None
+    np.testing.assert_allclose(c[1, 2], uplift.reflectance_from_rgb(np.clip(tex[1, 2], 0, 1), exact=False))
+    np.testing.assert_allclose(c[0, 0], uplift.reflectance_from_rgb([0.0, 1.0, 0.0], exact=False))

@@ -103,3 +103,16 @@ def emission_to_rgb(coeffs, luminance):
     from ..colour import luminance_rec709
     rgb = rgb / luminance_rec709(rgb)
     return rgb, float(luminance) / C.K_M
+
+
+def reflectance_from_rgb_array(rgb, n_coeffs=C.N_COEFFS_DEFAULT):
+    """Coefficients for every texel of a linear Rec.709 texture (..., 3) → (..., n_coeffs).
+
+    The fast, linear uplift (the moments of the Mallett–Yuksel spectrum), done once at
+    export; every texel's spectrum stays within [0, 1]. Non-finite texels become black.
+    """
+    a = np.asarray(rgb, dtype=np.float64)
+    if a.shape[-1] != 3:
+        raise ValueError(f"expected an (..., 3) RGB array, got shape {a.shape}")
+    a = np.clip(np.nan_to_num(a, nan=0.0, posinf=1.0, neginf=0.0), 0.0, 1.0)
+    return a @ _basis_moments(n_coeffs, False).T

@@ -22,7 +22,22 @@ from .jit import set_threads
 from .scene import Scene, SceneError, validate
 from .spectra import moments
 
-KERNEL_LOCK = threading.Lock()
+def _process_lock():
+    """One lock per process, shared by every copy of this package that is loaded.
+
+    Blender may hold two copies (an installed extension and a development checkout); they
+    share numba, so the lock lives on the numba module.
+    """
+    import numba
+
+    lock = getattr(numba, "_spectral_gi_kernel_lock", None)
+    if lock is None:
+        lock = threading.Lock()
+        numba._spectral_gi_kernel_lock = lock
+    return lock
+
+
+KERNEL_LOCK = _process_lock()
 
 # Target wall time of one pass, so progress and cancel stay live (architecture: 0.1–0.5 s).
 PASS_SECONDS = 0.3

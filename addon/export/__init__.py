@@ -1,0 +1,88 @@
+"""Blender scene → core scene, from the evaluated depsgraph.
+
+``export_scene(depsgraph)`` walks ``depsgraph.object_instances`` (modifiers, geometry
+nodes and instancing applied), converts Blender units to metres, and returns the
+validated core scene with one warning that lists everything it could not export.
+"""
+from dataclasses import dataclass
+
+from .context import ExportCancelled, ExportContext, ExportError
+from .convert import matrix_to_array
+from .light import export_light
+from .mesh import GEOMETRY_TYPES, HELPER_TYPES, export_mesh
+from .world import export_world
+
+__all__ = ["ExportCancelled", "ExportError", "ExportResult", "export_scene", "render_settings"]
+
+DEFAULTS = {"samples": 64, "max_bounces": 16, "seed": 0}
+
+
+@dataclass
+class ExportResult:
+    scene: object  # core.Scene, validated
+    warning: str | None  # one message listing what was not exported, or None
+
+
+def render_settings(scene):
+    """core.RenderSettings from ``scene.spectral_gi`` (defaults if the add-on's properties are absent)."""
+    from ...core import RenderSettings
+
+    s = getattr(scene, "spectral_gi", None)
+    get = (lambda k: getattr(s, k)) if s is not None else DEFAULTS.get
+    return RenderSettings(spp=int(get("samples")), max_depth=int(get("max_bounces")), seed=int(get("seed")))
+
+
+def _instance_name(inst, obj):
+    if inst.is_instance and inst.parent is not None:
+        return f"{inst.parent.name}/{obj.name}"
+    return obj.name
+
+
+def export_scene(depsgraph, scene=None, should_cancel=None):
+    """Export the scene evaluated by ``depsgraph``. ``should_cancel()`` is checked between objects.
+
+    Raises ExportCancelled, ExportError, or core.SceneError; never returns a partial scene.
+    """
+    import bpy
+
+    from ...core import Scene, validate
+
+    scene = scene if scene is not None else depsgraph.scene
+    ctx = ExportContext(scene.unit_settings.scale_length, should_cancel)
+    from .camera import export_camera
+
+    camera = export_camera(ctx, scene, depsgraph)
+    meshes, lights = [], []
+    cache = {}
+    for inst in depsgraph.object_instances:
+        ctx.check_cancel()
+        obj = inst.object
+        if not inst.is_instance and (obj.original.hide_render or not inst.show_self):
+            continue
+        name = _instance_name(inst, obj)
+        kind = obj.type
+        matrix = matrix_to_array(inst.matrix_world)
+        if kind in GEOMETRY_TYPES:
+            mesh = export_mesh(ctx, obj, matrix, name, cache if inst.is_instance else None)
+            if mesh is not None:
+                meshes.append(mesh)
+            elif kind != "MESH":
+                ctx.skip("objects with no surface", obj.name)
+        elif kind == "LIGHT":
+            light = export_light(ctx, obj, matrix, name)
+            if light is not None:
+                lights.append(light)
+        elif kind not in HELPER_TYPES:
+            ctx.skip(f"{kind.lower()} objects", obj.name)
+    ctx.check_cancel()
+    world = scene.world.evaluated_get(depsgraph) if scene.world is not None else None
+    core_world = export_world(ctx, world)
+    if not ctx.materials:
+        ctx.default_material()
+    result = Scene(meshes=meshes, spectra=ctx.spectra, materials=ctx.materials, lights=lights, camera=camera,
+                   world=core_world, settings=render_settings(scene),
+                   metadata={"source": "Blender " + bpy.app.version_string, "scene": scene.name,
+                             "blend_file": bpy.data.filepath,
+                             "unit_scale_length": ctx.scale_length})
+    validate(result)
+    return ExportResult(scene=result, warning=ctx.warning())

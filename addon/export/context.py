@@ -1,0 +1,96 @@
+"""State shared by the exporters: units, cancel checks, spectra, materials, warnings."""
+from .convert import rgb_of
+
+DEFAULT_GREY = (0.8, 0.8, 0.8)
+
+
+class ExportCancelled(Exception):
+    """The user cancelled while the scene was being exported."""
+
+
+class ExportError(Exception):
+    """The scene cannot be exported (for example: no active camera)."""
+
+
+class ExportContext:
+    """Collects what the exporters produce and what they could not export.
+
+    ``should_cancel`` is a callable checked between objects. Unsupported objects,
+    lights and shader nodes are gathered by category and reported once, as one
+    warning (see :meth:`warning`).
+    """
+
+    def __init__(self, scale_length=1.0, should_cancel=None):
+        from ...core import SpectrumTable
+
+        if not scale_length > 0.0:
+            raise ExportError(f"the scene's unit scale must be positive, got {scale_length}")
+        self.scale_length = float(scale_length)
+        self._should_cancel = should_cancel
+        self.spectra = SpectrumTable.empty()
+        self.materials = []
+        self._material_index = {}
+        self._spectrum_index = {}
+        self.unsupported = {}  # category -> list of names
+        self.notes = []  # substitutions made (linked inputs, ignored settings)
+
+    # ----------------------------------------------------------------- cancel / warnings
+
+    def check_cancel(self):
+        if self._should_cancel is not None and self._should_cancel():
+            raise ExportCancelled("export cancelled")
+
+    def skip(self, category, name):
+        """Record something that was not exported (reported once, grouped by category)."""
+        names = self.unsupported.setdefault(category, [])
+        if name not in names:
+            names.append(name)
+
+    def note(self, text):
+        if text not in self.notes:
+            self.notes.append(text)
+
+    def warning(self):
+        """One message listing everything not exported or substituted, or None."""
+        parts = [f"{cat}: {', '.join(repr(n) for n in names)}" for cat, names in self.unsupported.items()]
+        text = ""
+        if parts:
+            text = "Not exported — " + "; ".join(parts)
+        if self.notes:
+            text = (text + ". " if text else "") + "Approximated — " + "; ".join(self.notes)
+        return text or None
+
+    # ----------------------------------------------------------------- spectra
+
+    def reflectance(self, name, rgb):
+        from ...core import constants, reflectance_from_rgb
+
+        key = ("R", tuple(rgb_of(rgb)))
+        if key not in self._spectrum_index:
+            self._spectrum_index[key] = self.spectra.add(name, reflectance_from_rgb(key[1]),
+                                                         constants.SPECTRUM_BOUNDED)
+        return self._spectrum_index[key]
+
+    def emission(self, name, rgb):
+        from ...core import constants, emission_from_rgb
+
+        key = ("E", tuple(rgb_of(rgb)))
+        if key not in self._spectrum_index:
+            self._spectrum_index[key] = self.spectra.add(name, emission_from_rgb(key[1]),
+                                                         constants.SPECTRUM_UNBOUNDED)
+        return self._spectrum_index[key]
+
+    # ----------------------------------------------------------------- materials
+
+    def material_index(self, key, build):
+        """Index of the material for ``key``; ``build()`` returns a core Material the first time."""
+        if key not in self._material_index:
+            self._material_index[key] = len(self.materials)
+            self.materials.append(build())
+        return self._material_index[key]
+
+    def default_material(self):
+        from ...core import Material
+
+        return self.material_index(None, lambda: Material(
+            name="Spectral GI default", reflectance=self.reflectance("default grey", DEFAULT_GREY)))

@@ -1,0 +1,79 @@
+"""Evaluated Blender geometry → core meshes (world space, metres)."""
+import numpy as np
+
+from .convert import points_to_world_metres
+from .material import export_material
+
+# Object types that Blender can turn into a mesh (modifiers and geometry nodes applied).
+GEOMETRY_TYPES = frozenset({"MESH", "CURVE", "SURFACE", "FONT", "META"})
+# Object types that never render anything: skipped without a warning.
+HELPER_TYPES = frozenset({"EMPTY", "CAMERA", "ARMATURE", "LATTICE", "LIGHT_PROBE", "SPEAKER"})
+
+
+def local_triangles(obj):
+    """(positions float32 (N, 3), triangles int32 (T, 3), material slot int32 (T,)) of an evaluated object.
+
+    Uses ``to_mesh()`` (modifiers applied) and always frees it with ``to_mesh_clear()``.
+    Returns None if the object yields no mesh.
+    """
+    try:
+        me = obj.to_mesh()
+    except RuntimeError:
+        return None
+    try:
+        if me is None:
+            return None
+        me.calc_loop_triangles()
+        n_v = len(me.vertices)
+        n_t = len(me.loop_triangles)
+        co = np.empty(n_v * 3, dtype=np.float32)
+        tri = np.empty(n_t * 3, dtype=np.int32)
+        slot = np.empty(n_t, dtype=np.int32)
+        if n_v:
+            me.vertices.foreach_get("co", co)
+        if n_t:
+            me.loop_triangles.foreach_get("vertices", tri)
+            me.loop_triangles.foreach_get("material_index", slot)
+        return co.reshape(-1, 3), tri.reshape(-1, 3), slot
+    finally:
+        obj.to_mesh_clear()
+
+
+def slot_materials(obj):
+    """The Blender material of each material slot of ``obj`` (None for an empty slot)."""
+    mats = [s.material for s in obj.material_slots]
+    data_mats = list(getattr(obj.data, "materials", None) or [])
+    for i, m in enumerate(data_mats):
+        if i >= len(mats):
+            mats.append(m)
+        elif mats[i] is None:
+            mats[i] = m
+    return mats
+
+
+def export_mesh(ctx, obj, matrix, name, cache=None):
+    """A core Mesh for evaluated object ``obj`` placed by 4×4 ``matrix``, or None if it has no triangles.
+
+    ``cache`` (a dict) shares the local triangles of objects instanced many times.
+    """
+    from ...core import Mesh
+
+    key = None
+    if cache is not None and obj.data is not None:
+        key = obj.data.as_pointer()
+    local = cache.get(key) if key is not None else None
+    if local is None:
+        local = local_triangles(obj)
+        if local is None:
+            return None
+        if key is not None:
+            cache[key] = local
+    co, tri, slot = local
+    if tri.shape[0] == 0:
+        return None
+    mats = slot_materials(obj)
+    lut = np.array([export_material(ctx, m) for m in mats] or [export_material(ctx, None)], dtype=np.int32)
+    tri_mat = lut[np.clip(slot, 0, lut.size - 1)]
+    return Mesh(name=name, positions=points_to_world_metres(matrix, co, ctx.scale_length),
+                indices=np.ascontiguousarray(tri, dtype=np.int32),
+                material=np.ascontiguousarray(tri_mat, dtype=np.int32))

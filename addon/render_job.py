@@ -1,0 +1,240 @@
+"""Render jobs: ``core.render`` on a worker thread (or on the calling thread), shown progressively.
+
+The worker thread never touches bpy. It reports through plain callbacks into this
+module's state (``STATE``, read by the panel and the status bar) and leaves copies of
+the film for the main thread, which develops them into the result image at most every
+``DISPLAY_INTERVAL`` seconds and once at the end.
+"""
+import threading
+import time
+import traceback
+
+from .imageio import RESULT_IMAGE
+
+DISPLAY_INTERVAL = 1.0  # seconds between progressive updates of the result image
+
+
+class JobState:
+    """What the UI shows about the current (or last) render. Written by callbacks, read by the UI."""
+
+    def __init__(self):
+        self.running = False
+        self.phase = ""
+        self.done = 0
+        self.total = 0
+        self.rate = 0.0  # samples (camera paths) per second
+        self.started = 0.0
+        self.cancelling = False
+        self.message = ""  # outcome of the last render
+
+    def begin(self, total):
+        self.running = True
+        self.phase = "Starting"
+        self.done = 0
+        self.total = int(total)
+        self.rate = 0.0
+        self.started = time.monotonic()
+        self.cancelling = False
+        self.message = ""
+
+
+STATE = JobState()
+_current = None  # the RenderJob in progress (or the last one)
+
+
+def current_job():
+    return _current
+
+
+def busy():
+    """True while a render job runs (worker thread alive or a synchronous render in progress)."""
+    job = _current
+    if job is None or job.concluded:
+        return False
+    if job.thread is not None:
+        return job.thread.is_alive()
+    return STATE.running
+
+
+def status_line(state=STATE):
+    """One line for the status bar: phase, samples done/total, speed, cancel hint."""
+    parts = [f"Spectral GI: {state.phase or 'Rendering'}"]
+    if state.total:
+        parts.append(f"{state.done}/{state.total} samples")
+    if state.rate > 0.0:
+        parts.append(f"{state.rate / 1e6:.2f} M samples/s")
+    if state.running:
+        parts.append("Cancelling…" if state.cancelling else "Esc to cancel")
+    return " | ".join(parts)
+
+
+class RenderJob:
+    """One render of an exported core scene into the image ``image_name``."""
+
+    def __init__(self, scene, threads=0, image_name=RESULT_IMAGE):
+        self.scene = scene
+        self.threads = int(threads) if threads else None
+        self.image_name = image_name
+        self.cancel_requested = False
+        self.passes = 0
+        self.film = None
+        self.stats = None
+        self.error = None
+        self.traceback = None
+        self.finished = False
+        self.concluded = False
+        self.thread = None
+        self._lock = threading.Lock()
+        self._pending = None  # latest film copy not yet shown
+        self._last_copy = -1e9
+        self._last_display = -1e9
+        self._shown_spp = 0
+
+    # ------------------------------------------------------------------ callbacks (any thread)
+
+    def should_cancel(self):
+        return self.cancel_requested
+
+    def request_cancel(self):
+        self.cancel_requested = True
+        STATE.cancelling = True
+
+    def _status(self, text):
+        STATE.phase = str(text)
+
+    def _progress(self, done, total, rate):
+        STATE.done = int(done)
+        STATE.total = int(total)
+        STATE.rate = float(rate)
+
+    def _on_pass(self, film):
+        self.passes += 1
+        now = time.monotonic()
+        if now - self._last_copy >= DISPLAY_INTERVAL:
+            copy = film.copy()
+            with self._lock:
+                self._pending = copy
+            self._last_copy = now
+
+    def _run(self, on_pass):
+        try:
+            from ..core import render
+
+            self.film, self.stats = render(self.scene, threads=self.threads, progress=self._progress,
+                                           should_cancel=self.should_cancel, on_pass=on_pass,
+                                           status=self._status)
+        except Exception as exc:  # reported by the operator on the main thread
+            self.error = f"{type(exc).__name__}: {exc}"
+            self.traceback = traceback.format_exc()
+        finally:
+            self.finished = True
+
+    # ------------------------------------------------------------------ main thread
+
+    def _begin(self):
+        global _current
+        _current = self
+        STATE.begin(self.scene.settings.spp)
+
+    def start(self):
+        """Render on a worker thread; call :meth:`poll` from the main thread until it returns True."""
+        self._begin()
+        self.thread = threading.Thread(target=self._run, args=(self._on_pass,), name="spectral-gi-render",
+                                       daemon=True)
+        self.thread.start()
+
+    def run_sync(self):
+        """Render on the calling (main) thread, updating the image as passes complete."""
+        self._begin()
+
+        def on_pass(film):
+            self._on_pass(film)
+            self.display_pending()
+
+        self._run(on_pass)
+        return self.conclude()
+
+    def display_pending(self, force=False):
+        """Develop the latest film copy into the result image (throttled). Returns the image or None."""
+        now = time.monotonic()
+        if not force and now - self._last_display < DISPLAY_INTERVAL:
+            return None
+        with self._lock:
+            film, self._pending = self._pending, None
+        if film is None:
+            return None
+        self._last_display = now
+        return self._show(film)
+
+    def _show(self, film):
+        from .imageio import write_rgb
+
+        img = write_rgb(film.develop().rgb, self.image_name)
+        self.image_name = img.name
+        self._shown_spp = film.spp
+        return img
+
+    def poll(self):
+        """Main thread, from a timer: update the image; True once the job has finished and concluded."""
+        if not self.finished:
+            self.display_pending()
+            return False
+        if self.thread is not None:
+            self.thread.join(timeout=1.0)
+        self.conclude()
+        return True
+
+    def conclude(self):
+        """Show the final (or last partial) film and update the UI state. Idempotent. Returns the image."""
+        if self.concluded:
+            return self.result_image()
+        self.concluded = True
+        img = None
+        try:
+            film = self.film
+            if film is None:
+                with self._lock:
+                    film, self._pending = self._pending, None
+            if film is not None and film.spp > 0:
+                img = self._show(film)
+        except Exception as exc:
+            if self.error is None:
+                self.error = f"{type(exc).__name__}: {exc}"
+                self.traceback = traceback.format_exc()
+        finally:
+            STATE.running = False
+            STATE.cancelling = False
+            STATE.message = self.summary()
+            STATE.phase = "Finished" if self.error is None else "Failed"
+        return img
+
+    def result_image(self):
+        import bpy
+
+        return bpy.data.images.get(self.image_name)
+
+    @property
+    def cancelled(self):
+        return bool(self.stats is not None and self.stats.cancelled)
+
+    def summary(self):
+        if self.error is not None:
+            return f"Render failed: {self.error}"
+        st = self.stats
+        if st is None:
+            return "Render did not start"
+        total = self.scene.settings.spp
+        if st.cancelled:
+            return f"Cancelled after {st.spp} of {total} samples ({st.seconds:.1f} s)"
+        return (f"Rendered {st.spp} samples in {st.seconds:.1f} s "
+                f"({st.samples_per_second / 1e6:.2f} M samples/s)")
+
+
+def cancel_current(wait=0.0):
+    """Ask a running job to stop (used when the add-on is unregistered); optionally wait for its thread."""
+    job = _current
+    if job is None:
+        return
+    job.request_cancel()
+    if wait and job.thread is not None:
+        job.thread.join(timeout=wait)

@@ -1,0 +1,87 @@
+"""Installing, enabling, registering and unregistering the extension."""
+import os
+
+import pytest
+
+pytestmark = pytest.mark.blender
+
+
+def op_registered(bpy, name):
+    try:
+        getattr(bpy.ops.spectral_gi, name).get_rna_type()
+        return True
+    except KeyError:
+        return False
+
+
+def registered(bpy):
+    return {
+        "scene prop": hasattr(bpy.types.Scene, "spectral_gi"),
+        "operator": op_registered(bpy, "render"),
+        "cornell": op_registered(bpy, "add_cornell_box"),
+        "panel": hasattr(bpy.types, "SPECTRALGI_PT_render"),
+    }
+
+
+def test_register_unregister_register(ext, bpy):
+    assert all(registered(bpy).values())
+    ext.module.unregister()
+    assert not any(registered(bpy).values())
+    ext.module.unregister()  # unregistering twice is harmless
+    ext.module.register()
+    assert all(registered(bpy).values())
+    s = bpy.context.scene.spectral_gi
+    assert (s.samples, s.max_bounces, s.seed, s.threads) == (64, 16, 0, 0)
+
+
+def test_every_setting_states_its_unit_or_meaning(ext, bpy):
+    props = bpy.types.Scene.bl_rna.properties["spectral_gi"].fixed_type.bl_rna.properties
+    for name in ("samples", "max_bounces", "seed", "threads"):
+        desc = props[name].description
+        assert len(desc) > 20 and ("count" in desc or "integer" in desc), (name, desc)
+
+
+def test_panel_is_in_render_properties_for_every_engine(ext, bpy):
+    panel = bpy.types.SPECTRALGI_PT_render
+    assert (panel.bl_space_type, panel.bl_region_type, panel.bl_context) == ("PROPERTIES", "WINDOW", "render")
+    assert not getattr(panel, "COMPAT_ENGINES", None)
+    assert not hasattr(panel, "poll") or panel.poll(bpy.context)
+
+
+def test_numba_cache_dir_is_the_extension_user_folder(ext, bpy):
+    assert ext.registration.extension_package() == "bl_ext.user_default.spectral_gi"
+    cache = os.environ.get("NUMBA_CACHE_DIR")
+    assert cache
+    expected = bpy.utils.extension_path_user("bl_ext.user_default.spectral_gi", path="numba_cache")
+    if os.path.normpath(cache) != os.path.normpath(expected):
+        pytest.skip(f"NUMBA_CACHE_DIR was already set by the environment ({cache})")
+    assert os.path.isdir(cache)
+
+
+def test_panel_draws_idle_and_while_rendering(ext, bpy, monkeypatch):
+    from unittest import mock
+
+    panel = bpy.types.SPECTRALGI_PT_render
+    labels = []
+    layout = mock.MagicMock()
+    for name in ("row", "column", "box"):
+        getattr(layout, name).return_value = layout
+    layout.label.side_effect = lambda text="", **kw: labels.append(text)
+    fake = mock.MagicMock(layout=layout)
+    panel.draw(fake, bpy.context)
+    ops = [c.args[0] for c in layout.operator.call_args_list]
+    assert "spectral_gi.render" in ops and "spectral_gi.add_cornell_box" in ops
+    props = [c.args[1] for c in layout.prop.call_args_list]
+    assert props == ["samples", "max_bounces", "seed", "threads"]
+
+    state = ext.render_job.STATE
+    monkeypatch.setattr(ext.render_job, "busy", lambda: True)
+    monkeypatch.setattr(state, "phase", "Compiling kernels (first run only)")
+    monkeypatch.setattr(state, "done", 3)
+    monkeypatch.setattr(state, "total", 64)
+    monkeypatch.setattr(state, "rate", 1.5e6)
+    labels.clear()
+    panel.draw(fake, bpy.context)
+    text = " ".join(labels)
+    assert "Compiling kernels (first run only)" in text and "3 / 64" in text and "1.50 M samples/s" in text
+    assert "Esc" in text

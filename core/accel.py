@@ -51,8 +51,10 @@ def closest(bvh, origins, directions, tmax=None):
     d = np.ascontiguousarray(directions, np.float64)
     tm = np.full(o.shape[0], np.inf) if tmax is None else np.ascontiguousarray(
         np.broadcast_to(tmax, o.shape[:1]), np.float64)
-    t, p = K.trace_closest_batch(o, d, tm, bvh.bmin, bvh.bmax, bvh.child, bvh.count, bvh.axis,
-                                 bvh.v0, bvh.e1, bvh.e2)
+    from .renderer import KERNEL_LOCK
+    with KERNEL_LOCK:
+        t, p = K.trace_closest_batch(o, d, tm, bvh.bmin, bvh.bmax, bvh.child, bvh.count, bvh.axis,
+                                     bvh.v0, bvh.e1, bvh.e2)
     if bvh.prims.size == 0:
         return t, np.full(p.shape, -1, np.int32)
     tri = np.where(p >= 0, bvh.prims[np.maximum(p, 0)], -1)
@@ -63,8 +65,10 @@ def occluded(bvh, origins, directions, tmax):
     o = np.ascontiguousarray(origins, np.float64)
     d = np.ascontiguousarray(directions, np.float64)
     tm = np.ascontiguousarray(np.broadcast_to(tmax, o.shape[:1]), np.float64)
-    return K.trace_occluded_batch(o, d, tm, bvh.bmin, bvh.bmax, bvh.child, bvh.count,
-                                  bvh.v0, bvh.e1, bvh.e2)
+    from .renderer import KERNEL_LOCK
+    with KERNEL_LOCK:
+        return K.trace_occluded_batch(o, d, tm, bvh.bmin, bvh.bmax, bvh.child, bvh.count,
+                                      bvh.v0, bvh.e1, bvh.e2)
 
 
 def brute_force_closest(v0, v1, v2, origins, directions):

@@ -1,15 +1,18 @@
 """Render a scene: prepare arrays, build the BVH, run passes of the path tracer.
 
 ``render(scene, progress=, should_cancel=, on_pass=)`` is what the CLI and the
-Blender add-on call. Progress and cancellation cross as plain callables. Parallel
-kernels are launched under one process-wide lock: numba's threading layers abort the
-process when two threads launch parallel kernels at once, which would take Blender
-down with them.
+Blender add-on call. Progress and cancellation cross as plain callables. The path
+kernel is serial and releases the GIL; a pool of Python threads runs blocks of rows.
+The few parallel (prange) kernels that remain, the batch tools in ``accel``, are
+launched under one process-wide lock: numba's threading layers abort the process when
+two threads launch parallel kernels at once, which would take Blender down with them.
 """
 from __future__ import annotations
 
+import os
 import threading
 import time
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -18,7 +21,6 @@ from . import constants as C
 from . import presets
 from .accel import build as build_bvh
 from .film import Film
-from .jit import set_threads
 from .scene import Scene, SceneError, validate
 from .spectra import moments
 
@@ -237,20 +239,42 @@ def prepare(scene: Scene) -> Prepared:
                     time.perf_counter() - t0)
 
 
-def run_pass(prep: Prepared, film: Film, s0: int, s1: int):
-    """Add samples [s0, s1) of every pixel to ``film`` (under the kernel lock)."""
-    from .kernels.path import render_pass
+def _rows(prep, film, y0, y1, s0, s1):
+    from .kernels.path import render_rows
 
     st = prep.scene.settings
     b = prep.bvh
-    with KERNEL_LOCK:
-        render_pass(film.sums, int(s0), int(s1), int(st.seed), int(st.max_depth), int(st.rr_depth),
-                    float(prep.scene_scale), prep.cam,
-                    b.bmin, b.bmax, b.child, b.count, b.axis, b.v0, b.e1, b.e2, prep.tri_mat, prep.tri_emitter,
-                    prep.mat_refl, prep.mat_emis, prep.mat_emis_scale, prep.mat_emis_two, prep.spec, prep.cmf,
-                    prep.light_kind, prep.light_geo, prep.light_spec, prep.light_scale, prep.light_two_sided,
-                    prep.light_visible, prep.emit_cdf, prep.emit_prob, prep.emit_tri, prep.emit_light,
-                    int(prep.world_spec), float(prep.world_scale), film.spectral)
+    render_rows(film.sums, int(y0), int(y1), int(s0), int(s1), int(st.seed), int(st.max_depth), int(st.rr_depth),
+                float(prep.scene_scale), prep.cam,
+                b.bmin, b.bmax, b.child, b.count, b.axis, b.v0, b.e1, b.e2, prep.tri_mat, prep.tri_emitter,
+                prep.mat_refl, prep.mat_emis, prep.mat_emis_scale, prep.mat_emis_two, prep.spec, prep.cmf,
+                prep.light_kind, prep.light_geo, prep.light_spec, prep.light_scale, prep.light_two_sided,
+                prep.light_visible, prep.emit_cdf, prep.emit_prob, prep.emit_tri, prep.emit_light,
+                int(prep.world_spec), float(prep.world_scale), film.spectral)
+
+
+def thread_count(threads=None):
+    """Worker threads for a render: ``threads`` if given (> 0), else one per core."""
+    if threads is not None and int(threads) > 0:
+        return int(threads)
+    return max(1, os.cpu_count() or 1)
+
+
+def run_pass(prep: Prepared, film: Film, s0: int, s1: int, pool=None):
+    """Add samples [s0, s1) of every pixel to ``film``.
+
+    With a ``concurrent.futures`` ``pool``, blocks of rows run on its threads (the kernel
+    releases the GIL); without one, on the calling thread. The result is the same.
+    """
+    h = film.height
+    if pool is None:
+        _rows(prep, film, 0, h, s0, s1)
+    else:
+        workers = getattr(pool, "_max_workers", 1)
+        block = max(1, h // (8 * workers))  # several blocks per thread balance the load
+        futures = [pool.submit(_rows, prep, film, y, min(h, y + block), s0, s1) for y in range(0, h, block)]
+        for f in futures:
+            f.result()
     film.spp = s1
 
 
@@ -266,8 +290,8 @@ class RenderStats:
 
 def kernels_compiled():
     """True if the path kernel is already compiled in this process."""
-    from .kernels.path import render_pass
-    return bool(render_pass.signatures)
+    from .kernels.path import render_rows
+    return bool(render_rows.signatures)
 
 
 def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_pass=None, status=None,
@@ -282,7 +306,7 @@ def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_
     Returns (film, RenderStats).
     """
     say = status or (lambda text: None)
-    set_threads(threads)
+    n_threads = thread_count(threads)
     say("Preparing scene")
     prep = prepare(scene)
     cam = scene.camera
@@ -296,6 +320,16 @@ def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_
         run_pass(prep, Film(1, 1), 0, 1)
         t_compile = time.perf_counter() - tc
     say("Rendering")
+    pool = ThreadPoolExecutor(max_workers=n_threads, thread_name_prefix="spectral-gi") if n_threads > 1 else None
+    try:
+        return _progressive(prep, film, pool, total, progress, should_cancel, on_pass, t_compile)
+    finally:
+        if pool is not None:
+            pool.shutdown(wait=True)
+
+
+def _progressive(prep, film, pool, total, progress, should_cancel, on_pass, t_compile):
+    cam = prep.scene.camera
     t0 = time.perf_counter()
     done = 0
     step = 1
@@ -306,7 +340,7 @@ def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_
             break
         n = min(step, total - done)
         tp = time.perf_counter()
-        run_pass(prep, film, done, done + n)
+        run_pass(prep, film, done, done + n, pool)
         dt = time.perf_counter() - tp
         done += n
         elapsed = time.perf_counter() - t0

@@ -76,23 +76,29 @@ def test_light_visible_flag_and_back_side():
 
 
 def test_same_image_for_one_and_two_threads_and_any_pass_split():
+    from concurrent.futures import ThreadPoolExecutor
+
+    from spectral_gi.core.film import Film
+
     sc = cornell_box(width=24, height=20, spp=6, seed=11)
     prep = R.prepare(sc)
-    from spectral_gi.core.film import Film
-    from spectral_gi.core.jit import set_threads
-
-    set_threads(1)
     a = Film(24, 20)
-    R.run_pass(prep, a, 0, 6)
-    set_threads(2)
-    b = Film(24, 20)
-    R.run_pass(prep, b, 0, 6)
-    c = Film(24, 20)
-    for s0, s1 in [(0, 1), (1, 4), (4, 6)]:
-        R.run_pass(prep, c, s0, s1)
-    set_threads(None)
-    assert np.array_equal(a.sums, b.sums)
-    assert np.array_equal(a.sums, c.sums)
+    R.run_pass(prep, a, 0, 6)  # the calling thread alone
+    results = []
+    for n in (1, 2, 3):
+        with ThreadPoolExecutor(n) as pool:
+            b = Film(24, 20)
+            R.run_pass(prep, b, 0, 6, pool)
+            c = Film(24, 20)
+            for s0, s1 in [(0, 1), (1, 4), (4, 6)]:
+                R.run_pass(prep, c, s0, s1, pool)
+        results += [b, c]
+    for f in results:
+        assert np.array_equal(a.sums, f.sums)
+    # and through render() with 1 and 2 threads
+    f1, _ = R.render(sc, threads=1)
+    f2, _ = R.render(sc, threads=2)
+    assert np.array_equal(f1.sums, f2.sums) and np.array_equal(f1.sums, a.sums)
     d = Film(24, 20)
     sc.settings.seed = 12
     R.run_pass(R.prepare(sc), d, 0, 6)

@@ -17,8 +17,6 @@ number of threads or the split of samples into passes.
 import math
 
 import numpy as np
-from numba import prange
-
 from .. import constants as C
 from ..jit import inline, kernel
 from .bvh import STACK_SIZE, closest_hit, occluded
@@ -134,15 +132,20 @@ def intersect_light(kind, px, py, pz, ux, uy, uz, vx, vy, vz, nx, ny, nz, ox, oy
     return t, den
 
 
-@kernel(parallel=True)
-def render_pass(film, s0, s1, seed, max_depth, rr_depth, scene_scale, cam,
+@kernel
+def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, cam,
                 bmin, bmax, child, count, axis, v0, e1, e2, tri_mat, tri_emitter,
                 mat_refl, mat_emis, mat_emis_scale, mat_emis_two,
                 spec, cmf,
                 light_kind, light_geo, light_spec, light_scale, light_two_sided, light_visible,
                 emit_cdf, emit_prob, emit_tri, emit_light,
                 world_spec, world_scale, spectral):
-    """Add samples s0 .. s1-1 of every pixel to ``film`` (H, W, 5) float64.
+    """Add samples s0 .. s1-1 of every pixel of rows y0 .. y1-1 to ``film`` (H, W, 5) float64.
+
+    A serial kernel that releases the GIL: the renderer runs blocks of rows on a pool of
+    Python threads (compiling a prange kernel takes four times as long, and numba's
+    threading layers abort the process on concurrent launches). Rows never overlap, so
+    the film does not depend on the number of threads.
 
     spectral: (H, W, B) float64 sums of the spectral radiance averaged over B equal bins
     of [LMIN, LMAX] (W/(m² sr nm)); pass a (1, 1, 0) array to skip it.
@@ -158,7 +161,7 @@ def render_pass(film, s0, s1, seed, max_depth, rr_depth, scene_scale, cam,
     n_emit = emit_prob.shape[0]
     n_lights = light_kind.shape[0]
     eps = EPS_REL * scene_scale
-    for y in prange(height):
+    for y in range(y0, y1):
         stack = np.empty(STACK_SIZE, np.int32)
         lam = np.empty(NW)
         pdf_lam = np.empty(NW)

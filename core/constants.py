@@ -29,8 +29,23 @@ N_COEFFS_MAX = 16
 SPECTRUM_BOUNDED = 0  # reflectance / transmittance in [0, 1]: bounded MESE reconstruction
 SPECTRUM_UNBOUNDED = 1  # emission >= 0: maximum-entropy (Burg) reconstruction
 
-# Material model tags.
-MAT_LAMBERT = 0
+# Material model tags (BSDF models of core/bsdfs; parameter rows documented in
+# core/bsdfs/params.py).
+MAT_LAMBERT = 0  # item 47
+MAT_PHONG = 1  # item 48a: modified Phong, lobe around the mirror direction
+MAT_BLINN_PHONG = 2  # item 48b: modified Phong, half-vector form
+MAT_WARD = 3  # item 49: Ward, isotropic or anisotropic
+MAT_LAFORTUNE = 4  # item 50: up to 3 generalised cosine lobes + diffuse
+MAT_MIRROR = 5  # item 37: perfect mirror
+MAT_DIELECTRIC = 6  # items 38-42: smooth dielectric (Fresnel, Snell, TIR)
+MAT_CONDUCTOR = 7  # item 42: smooth conductor, complex index
+MAT_GGX_CONDUCTOR = 8  # rough conductor, GGX (Walter et al. 2007)
+MAT_GGX_DIELECTRIC = 9  # rough dielectric, GGX reflection + transmission (Walter et al. 2007)
+MAT_MIX = 10  # params [w, a, b]: material a with probability w, else b (Blender's Mix Shader)
+MAT_ADD = 11  # params [-, a, b]: the sum of materials a and b (Blender's Add Shader)
+MATERIAL_MODELS = tuple(range(12))
+MATERIAL_PARAMS = 16  # length of a material's parameter row
+MIX_DEPTH = 8  # deepest nesting of mixes the kernel follows
 
 # Light tags (analytic lights; emissive triangles are handled by the material).
 LIGHT_RECT = 0

@@ -55,8 +55,21 @@ def kernel(fn=None, *, parallel=False):
 
 
 def inline(fn):
-    """Small scalar helper: compiled with the same policy and inlined into callers."""
+    """Small scalar helper: compiled with the same policy and inlined into callers
+    (numba's IR-level inlining), so hot helpers such as the RNG or a table lookup cost
+    nothing. Keep it for small functions: a large tree of them inlined into one kernel
+    makes compile time explode (see ``function``)."""
     return numba.njit(inline="always", **_POLICY)(fn)
+
+
+def function(fn):
+    """A large helper called from kernels, compiled as a function of its own.
+
+    For boundaries such as the BSDF dispatch: inlining every model into the path kernel
+    made it take over ten minutes to compile; called as a function it compiles once, in
+    seconds, for the price of one call per use.
+    """
+    return numba.njit(**_POLICY)(fn)
 
 
 def set_threads(n):

@@ -53,7 +53,14 @@ class Prepared:
     bvh: object
     tri_mat: np.ndarray
     tri_emitter: np.ndarray
-    mat_refl: np.ndarray
+    mat_model: np.ndarray
+    mat_p: np.ndarray
+    mat_ra: np.ndarray
+    mat_rb: np.ndarray
+    mat_eta: np.ndarray
+    mat_kappa: np.ndarray
+    mat_ior: np.ndarray
+    ior_tab: np.ndarray
     mat_emis: np.ndarray
     mat_emis_scale: np.ndarray
     mat_emis_two: np.ndarray
@@ -121,6 +128,24 @@ def _luminance_scale(shape_row, cmf, luminance, what):
     return luminance / (C.K_M * y)
 
 
+def material_row(m, index=0):
+    """The float64[16] parameter row of a material (its ``params``, or its model's defaults)."""
+    from .bsdfs.params import make_params
+
+    row = np.zeros(C.MATERIAL_PARAMS)
+    if m.params is not None:
+        p = np.asarray(m.params, dtype=np.float64).reshape(-1)
+        row[:p.size] = p
+        return row
+    if m.model in (C.MAT_MIX, C.MAT_ADD):
+        raise SceneError(f"materials[{index}] ({m.name!r}).params: a mix needs its parameters")
+    try:
+        return np.asarray(make_params(m.model), dtype=np.float64)
+    except (TypeError, ValueError) as e:
+        raise SceneError(f"materials[{index}] ({m.name!r}).params: model {m.model} needs parameters ({e})") \
+            from None
+
+
 def prepare(scene: Scene) -> Prepared:
     validate(scene)
     t0 = time.perf_counter()
@@ -149,12 +174,24 @@ def prepare(scene: Scene) -> Prepared:
     tri_mat = np.ascontiguousarray(tri_mat_orig[bvh.prims], np.int32)
 
     n_mat = max(1, len(scene.materials))
-    mat_refl = np.full(n_mat, -1, np.int32)
+    mat_model = np.zeros(n_mat, np.int32)
+    mat_p = np.zeros((n_mat, C.MATERIAL_PARAMS))
+    mat_ra = np.full(n_mat, -1, np.int32)
+    mat_rb = np.full(n_mat, -1, np.int32)
+    mat_eta = np.full(n_mat, -1, np.int32)
+    mat_kappa = np.full(n_mat, -1, np.int32)
+    mat_ior = np.full(n_mat, 1.5)
     mat_emis = np.full(n_mat, -1, np.int32)
     mat_emis_scale = np.zeros(n_mat)
     mat_emis_two = np.ones(n_mat, np.int32)
     for i, m in enumerate(scene.materials):
-        mat_refl[i] = m.reflectance
+        mat_model[i] = m.model
+        mat_p[i] = material_row(m, i)
+        mat_ra[i] = m.reflectance
+        mat_rb[i] = m.specular
+        mat_eta[i] = m.eta_table
+        mat_kappa[i] = m.kappa_table
+        mat_ior[i] = m.ior
         mat_emis_two[i] = 1 if m.two_sided else 0
         if m.emission >= 0 and m.emission_luminance > 0.0:
             mat_emis[i] = m.emission
@@ -232,7 +269,9 @@ def prepare(scene: Scene) -> Prepared:
     if n_l:
         pts.append(np.abs(light_geo[:, :3]).max())
     scene_scale = max(1.0, float(max(pts)))
-    return Prepared(scene, bvh, tri_mat, tri_emitter, mat_refl, mat_emis, mat_emis_scale,
+    ior_tab = scene.ior_tables.values if len(scene.ior_tables) else np.ones((1, C.N_LAMBDA), np.float32)
+    return Prepared(scene, bvh, tri_mat, tri_emitter, mat_model, mat_p, mat_ra, mat_rb, mat_eta, mat_kappa,
+                    mat_ior, np.ascontiguousarray(ior_tab, np.float32), mat_emis, mat_emis_scale,
                     mat_emis_two, np.ascontiguousarray(spec, np.float32), cmf, light_kind, light_geo, light_spec,
                     light_scale, light_two, light_vis, cdf, np.ascontiguousarray(prob), emit_tri, emit_light,
                     world_spec, world_scale, camera_vector(scene.camera), scene_scale,
@@ -247,7 +286,8 @@ def _rows(prep, film, y0, y1, s0, s1):
     render_rows(film.sums, int(y0), int(y1), int(s0), int(s1), int(st.seed), int(st.max_depth), int(st.rr_depth),
                 float(prep.scene_scale), prep.cam,
                 b.bmin, b.bmax, b.child, b.count, b.axis, b.v0, b.e1, b.e2, prep.tri_mat, prep.tri_emitter,
-                prep.mat_refl, prep.mat_emis, prep.mat_emis_scale, prep.mat_emis_two, prep.spec, prep.cmf,
+                prep.mat_model, prep.mat_p, prep.mat_ra, prep.mat_rb, prep.mat_eta, prep.mat_kappa, prep.mat_ior,
+                prep.ior_tab, prep.mat_emis, prep.mat_emis_scale, prep.mat_emis_two, prep.spec, prep.cmf,
                 prep.light_kind, prep.light_geo, prep.light_spec, prep.light_scale, prep.light_two_sided,
                 prep.light_visible, prep.emit_cdf, prep.emit_prob, prep.emit_tri, prep.emit_light,
                 int(prep.world_spec), float(prep.world_scale), film.spectral)

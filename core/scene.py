@@ -69,13 +69,50 @@ class SpectrumTable:
 
 
 @dataclass
+class IORTable:
+    """Refractive-index curves on the renderer's 1 nm grid (η or κ of glasses and metals).
+
+    Not light or reflectance spectra, so not stored as moments: a dispersion curve must
+    be exact to a few 1e-4 for the colours of dispersion to be right.
+    """
+
+    values: np.ndarray  # float32 (T, N_LAMBDA), 360..830 nm in 1 nm steps
+    names: list[str] = field(default_factory=list)
+
+    @classmethod
+    def empty(cls):
+        return cls(np.zeros((0, C.N_LAMBDA), np.float32), [])
+
+    def add(self, name, values):
+        v = np.asarray(values, dtype=np.float32).reshape(1, C.N_LAMBDA)
+        self.values = np.concatenate([self.values, v])
+        self.names.append(str(name))
+        return len(self.names) - 1
+
+    def __len__(self):
+        return len(self.names)
+
+
+@dataclass
 class Material:
+    """A surface: a BSDF model (``model``, a MAT_* tag, with its parameter row ``params``,
+    see core/bsdfs/params.py), its spectral inputs and an optional emission.
+
+    MAT_MIX / MAT_ADD combine two other materials: params[0] is the mix weight of the
+    first (MIX), params[1] and params[2] the indices of the two materials.
+    """
+
     name: str
     model: int = C.MAT_LAMBERT
-    reflectance: int = -1  # index of a bounded spectrum; -1 = black
+    reflectance: int = -1  # index of a bounded spectrum (the model's ``ra``); -1 = black
     emission: int = -1  # index of an unbounded spectrum (shape only); -1 = none
     emission_luminance: float = 0.0  # cd/m² of the emitted radiance
     two_sided: bool = True  # emits from both sides (Blender's Emission shader); False: front only
+    params: list | None = None  # float64[16] row of the model; None: the model's defaults
+    specular: int = -1  # index of a bounded spectrum (the model's ``rb``); -1 = white
+    ior: float = 1.5  # constant relative index when ``eta_table`` is -1
+    eta_table: int = -1  # index into Scene.ior_tables for η(λ); -1 = constant ``ior``
+    kappa_table: int = -1  # index into Scene.ior_tables for κ(λ); -1 = 0
 
 
 @dataclass
@@ -138,6 +175,7 @@ class Scene:
     spectra: SpectrumTable = field(default_factory=SpectrumTable.empty)
     materials: list[Material] = field(default_factory=list)
     lights: list[Light] = field(default_factory=list)
+    ior_tables: IORTable = field(default_factory=IORTable.empty)
     camera: Camera = field(default_factory=lambda: Camera(np.eye(4)))
     world: World = field(default_factory=World)
     settings: RenderSettings = field(default_factory=RenderSettings)
@@ -226,13 +264,52 @@ def validate(scene: Scene) -> Scene:
             _fail(name, f"spectrum {idx} ({sp.names[idx]!r}) must be {want}")
 
     n_mat = len(scene.materials)
+    it = scene.ior_tables
+    _check_array("ior_tables.values", it.values, np.float32, (len(it), C.N_LAMBDA))
+    if len(it) and it.values.min() < 0.0:
+        _fail("ior_tables.values", "refractive indices must be ≥ 0")
     for i, m in enumerate(scene.materials):
         nm = f"materials[{i}] ({m.name!r})"
-        if m.model != C.MAT_LAMBERT:
+        if m.model not in C.MATERIAL_MODELS:
             _fail(f"{nm}.model", f"unknown material model {m.model}")
         spec_ref(f"{nm}.reflectance", m.reflectance, C.SPECTRUM_BOUNDED)
+        spec_ref(f"{nm}.specular", m.specular, C.SPECTRUM_BOUNDED)
         spec_ref(f"{nm}.emission", m.emission, C.SPECTRUM_UNBOUNDED)
         _check_number(f"{nm}.emission_luminance", m.emission_luminance, lo=0.0)
+        _check_number(f"{nm}.ior", m.ior, lo=1e-3, hi=100.0)
+        for key in ("eta_table", "kappa_table"):
+            idx = getattr(m, key)
+            _check_number(f"{nm}.{key}", idx, integer=True)
+            if not -1 <= idx < len(it):
+                _fail(f"{nm}.{key}", f"index {idx} out of range [-1, {len(it)})")
+        if m.params is not None:
+            row = np.asarray(m.params, dtype=np.float64) if not isinstance(m.params, np.ndarray) else m.params
+            if row.ndim != 1 or row.size > C.MATERIAL_PARAMS:
+                _fail(f"{nm}.params", f"expected at most {C.MATERIAL_PARAMS} numbers, got shape {row.shape}")
+            if not np.all(np.isfinite(row)):
+                _fail(f"{nm}.params", "contains NaN or Inf")
+        if m.model in (C.MAT_MIX, C.MAT_ADD):
+            row = list(m.params or [])
+            if len(row) < 3:
+                _fail(f"{nm}.params", "a mix needs [weight, first material, second material]")
+            if m.model == C.MAT_MIX and not 0.0 <= row[0] <= 1.0:
+                _fail(f"{nm}.params", f"mix weight must be in [0, 1], got {row[0]}")
+            for k in (1, 2):
+                if int(row[k]) != row[k] or not 0 <= row[k] < n_mat or int(row[k]) == i:
+                    _fail(f"{nm}.params", f"component {row[k]} is not another material's index")
+    # mixes must not form cycles (the kernel follows at most MIX_DEPTH links)
+    for i, m in enumerate(scene.materials):
+        seen = [i]
+        stack = [(i, 0)]
+        while stack:
+            j, depth = stack.pop()
+            mj = scene.materials[j]
+            if mj.model in (C.MAT_MIX, C.MAT_ADD):
+                if depth >= C.MIX_DEPTH:
+                    _fail(f"materials[{i}] ({m.name!r}).params", f"mixes nest deeper than {C.MIX_DEPTH} or loop")
+                for k in (1, 2):
+                    stack.append((int(mj.params[k]), depth + 1))
+        del seen
 
     for i, mesh in enumerate(scene.meshes):
         nm = f"meshes[{i}] ({mesh.name!r})"
@@ -313,7 +390,8 @@ def _to_jsonable(obj):
 
 def to_dict_and_arrays(scene: Scene):
     """Split a scene into a JSON-able dict and a dict of named arrays."""
-    arrays = {"spectra.coeffs": scene.spectra.coeffs, "spectra.kind": scene.spectra.kind}
+    arrays = {"spectra.coeffs": scene.spectra.coeffs, "spectra.kind": scene.spectra.kind,
+              "ior_tables.values": scene.ior_tables.values}
     meshes = []
     for i, m in enumerate(scene.meshes):
         rec = {"name": m.name}
@@ -330,6 +408,7 @@ def to_dict_and_arrays(scene: Scene):
         "metadata": scene.metadata,
         "spectra": {"names": list(scene.spectra.names), "coeffs": "spectra.coeffs", "kind": "spectra.kind"},
         "materials": [dataclasses.asdict(m) for m in scene.materials],
+        "ior_tables": {"names": list(scene.ior_tables.names), "values": "ior_tables.values"},
         "lights": [dataclasses.asdict(li) for li in scene.lights],
         "meshes": meshes,
         "camera": cam,
@@ -420,6 +499,9 @@ def load(path) -> Scene:
                 uvs=arr(m.get("uvs"), f"meshes[{i}].uvs"),
             ))
         materials = [record(Material, d, f"materials[{i}]") for i, d in enumerate(doc["materials"])]
+        itd = doc.get("ior_tables")
+        ior_tables = IORTable.empty() if itd is None else IORTable(arr(itd["values"], "ior_tables.values"),
+                                                                 list(itd["names"]))
         lights = [record(Light, d, f"lights[{i}]") for i, d in enumerate(doc["lights"])]
         camd = dict(doc["camera"])
         camd["to_world"] = np.asarray(camd.get("to_world"), dtype=np.float64)
@@ -432,6 +514,7 @@ def load(path) -> Scene:
         if isinstance(e, SceneError):
             raise
         raise SceneError(f"scene file: malformed content in {path.name} ({e})") from None
-    scene = Scene(meshes=meshes, spectra=spectra, materials=materials, lights=lights, camera=camera,
-                  world=world, settings=settings, metadata=dict(doc.get("metadata") or {}), version=version)
+    scene = Scene(meshes=meshes, spectra=spectra, materials=materials, lights=lights, ior_tables=ior_tables,
+                  camera=camera, world=world, settings=settings, metadata=dict(doc.get("metadata") or {}),
+                  version=version)
     return validate(scene)

@@ -186,3 +186,53 @@ def test_spectral_film_bins_hold_the_spectral_radiance():
         ch, header = read_channels(p)
         assert header["spectralLayoutVersion"] == "1.0" and header["emissiveUnits"] == "W.m^-2.sr^-1"
         np.testing.assert_allclose(ch["S0.383,5nm"], film.spectral_radiance()[..., 0], rtol=1e-6)
+
+
+def _furnace_with_object(material_kw, params):
+    """The emitting furnace (walls L_e, ρ) with a small cube of another material inside."""
+    from helpers import box_mesh, flat_reflectance
+
+    from spectral_gi.core.scene import Material
+    sc = furnace_scene(0.5, 100.0, width=12, height=12, spp=256)
+    white = sc.spectra.add("white", flat_reflectance(1.0), C.SPECTRUM_BOUNDED)
+    material_kw = {"reflectance": white, "specular": white, **material_kw}
+    sc.materials.append(Material("object", params=list(params), **material_kw))
+    sc.meshes.append(box_mesh("cube", (0.3, -0.2, -0.2), (0.7, 0.2, 0.2), 1))
+    return sc
+
+
+@pytest.mark.statistical
+@pytest.mark.parametrize("kind", ["dielectric", "mirror"])
+def test_lossless_objects_vanish_in_the_furnace(kind):
+    """Radiance in the furnace is uniform, L_e/(1-ρ); a lossless object (glass with R + T = 1,
+    a perfect mirror) changes no radiance, so the image stays uniform (items 37-42, 45).
+    (A rough GGX dielectric is not lossless: single-scattering microfacet models lose the
+    energy of multiple scattering between facets, compounded by internal reflections.)"""
+    from spectral_gi.core import bsdfs
+    if kind == "dielectric":
+        sc = _furnace_with_object(dict(model=C.MAT_DIELECTRIC, ior=1.5), bsdfs.dielectric_params())
+    else:
+        sc = _furnace_with_object(dict(model=C.MAT_MIRROR), bsdfs.mirror_params())
+    d = develop(R.render(sc)[0].sums)
+    expected = 100.0 / (1.0 - 0.5)
+    z = (d.luminance - expected) / np.sqrt(d.variance)
+    assert abs(d.luminance.mean() / expected - 1.0) < 0.02
+    assert np.mean(np.abs(z) > 4.0) < 0.01, np.abs(z).max()
+
+
+@pytest.mark.statistical
+def test_black_object_casts_a_shadow_in_the_furnace_and_mix_halves_it():
+    """A black cube is visible (L_e only); a 50/50 mix of black and a lossless mirror sits between."""
+    from spectral_gi.core import bsdfs
+    from spectral_gi.core.scene import Material
+    sc = _furnace_with_object(dict(model=C.MAT_LAMBERT, reflectance=-1), bsdfs.lambert_params())
+    d_black = develop(R.render(sc)[0].sums)
+    # the cube covers the image centre, and a black cube reflects nothing
+    centre = d_black.luminance[5:7, 5:7].mean()
+    assert centre < 1.0
+    sc.materials[1].reflectance = -1  # black
+    sc.materials.append(Material("mirror", model=C.MAT_MIRROR, params=list(bsdfs.mirror_params()), reflectance=2))
+    sc.materials.append(Material("mix", model=C.MAT_MIX, params=[0.5, 1.0, 2.0]))
+    sc.meshes[1].material[:] = 3
+    d_mix = develop(R.render(sc)[0].sums)
+    assert d_mix.luminance[5:7, 5:7].mean() == pytest.approx(0.5 * 200.0, rel=0.05)

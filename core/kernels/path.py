@@ -19,6 +19,8 @@ import math
 import numpy as np
 from .. import constants as C
 from ..jit import inline, kernel
+from ..bsdfs.dispatch import bsdf_eval, bsdf_flags, bsdf_sample
+from ..bsdfs.params import BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE, BSDF_GLOSSY
 from .bvh import STACK_SIZE, closest_hit, occluded
 from .rng import path_key, uniform
 
@@ -132,10 +134,57 @@ def intersect_light(kind, px, py, pz, ux, uy, uz, vx, vy, vz, nx, ny, nz, ox, oy
     return t, den
 
 
+@inline
+def _emitter_sample(ei, ua, ub, emit_tri, emit_light, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale,
+                    mat_emis_two, light_kind, light_geo, light_spec, light_scale, light_two_sided):
+    """A point on emitter ``ei``: (x, y, z, normal x, y, z, area, two-sided, spectrum row, scale, ok)."""
+    if emit_tri[ei] >= 0:
+        tp = emit_tri[ei]
+        su = math.sqrt(ua)
+        b1 = 1.0 - su
+        b2 = ub * su
+        qx = v0[tp, 0] + b1 * e1[tp, 0] + b2 * e2[tp, 0]
+        qy = v0[tp, 1] + b1 * e1[tp, 1] + b2 * e2[tp, 1]
+        qz = v0[tp, 2] + b1 * e1[tp, 2] + b2 * e2[tp, 2]
+        lnx = e1[tp, 1] * e2[tp, 2] - e1[tp, 2] * e2[tp, 1]
+        lny = e1[tp, 2] * e2[tp, 0] - e1[tp, 0] * e2[tp, 2]
+        lnz = e1[tp, 0] * e2[tp, 1] - e1[tp, 1] * e2[tp, 0]
+        ll = math.sqrt(lnx * lnx + lny * lny + lnz * lnz)
+        if ll == 0.0:
+            return qx, qy, qz, 0.0, 0.0, 1.0, 1.0, False, 0, 0.0, False
+        lm = tri_mat[tp]
+        return (qx, qy, qz, lnx / ll, lny / ll, lnz / ll, 0.5 * ll, mat_emis_two[lm] != 0, mat_emis[lm],
+                mat_emis_scale[lm], True)
+    li = emit_light[ei]
+    if light_kind[li] == C.LIGHT_RECT:
+        a = 2.0 * ua - 1.0
+        b = 2.0 * ub - 1.0
+    else:
+        r = math.sqrt(ua)
+        ph = 2.0 * math.pi * ub
+        a = r * math.cos(ph)
+        b = r * math.sin(ph)
+    qx = light_geo[li, 0] + a * light_geo[li, 3] + b * light_geo[li, 6]
+    qy = light_geo[li, 1] + a * light_geo[li, 4] + b * light_geo[li, 7]
+    qz = light_geo[li, 2] + a * light_geo[li, 5] + b * light_geo[li, 8]
+    return (qx, qy, qz, light_geo[li, 9], light_geo[li, 10], light_geo[li, 11], light_geo[li, 12],
+            light_two_sided[li] != 0, light_spec[li], light_scale[li], True)
+
+
+@inline
+def _lookup_material(m, lam, spec, ior_tab, mat_ra, mat_rb, mat_eta, mat_kappa, mat_ior, ra, rb, eta, kappa):
+    for i in range(NW):
+        ra[i] = lookup(spec, mat_ra[m], lam[i]) if mat_ra[m] >= 0 else 0.0
+        rb[i] = lookup(spec, mat_rb[m], lam[i]) if mat_rb[m] >= 0 else 1.0
+        eta[i] = lookup(ior_tab, mat_eta[m], lam[i]) if mat_eta[m] >= 0 else mat_ior[m]
+        kappa[i] = lookup(ior_tab, mat_kappa[m], lam[i]) if mat_kappa[m] >= 0 else 0.0
+
+
 @kernel
 def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, cam,
                 bmin, bmax, child, count, axis, v0, e1, e2, tri_mat, tri_emitter,
-                mat_refl, mat_emis, mat_emis_scale, mat_emis_two,
+                mat_model, mat_p, mat_ra, mat_rb, mat_eta, mat_kappa, mat_ior, ior_tab,
+                mat_emis, mat_emis_scale, mat_emis_two,
                 spec, cmf,
                 light_kind, light_geo, light_spec, light_scale, light_two_sided, light_visible,
                 emit_cdf, emit_prob, emit_tri, emit_light,
@@ -146,6 +195,10 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
     Python threads (compiling a prange kernel takes four times as long, and numba's
     threading layers abort the process on concurrent launches). Rows never overlap, so
     the film does not depend on the number of threads.
+
+    Materials: mat_model (MAT_* tags) and mat_p (K, 16) rows for core.bsdfs; spectral
+    inputs ra/rb (rows of ``spec``, -1: 0 / 1), η (row of ``ior_tab`` or the constant
+    mat_ior) and κ (row of ``ior_tab`` or 0). MAT_MIX/MAT_ADD pick one component per hit.
 
     spectral: (H, W, B) float64 sums of the spectral radiance averaged over B equal bins
     of [LMIN, LMAX] (W/(m² sr nm)); pass a (1, 1, 0) array to skip it.
@@ -167,7 +220,11 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
         pdf_lam = np.empty(NW)
         beta = np.empty(NW)
         rad = np.empty(NW)
-        rho = np.empty(NW)
+        ra = np.empty(NW)
+        rb = np.empty(NW)
+        eta = np.empty(NW)
+        kappa = np.empty(NW)
+        fv = np.empty(NW)
         for x in range(width):
             pix = y * width + x
             for s in range(s0, s1):
@@ -197,6 +254,8 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 dim = 3
                 depth = 0
                 prev_pdf = 0.0
+                prev_delta = True  # the camera ray: emitters seen directly get full weight
+                dispersed = False
                 while True:
                     t, prim, bu, bv = closest_hit(ox, oy, oz, dx, dy, dz, 0.0, np.inf,
                                                   bmin, bmax, child, count, axis, v0, e1, e2, stack)
@@ -215,7 +274,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                         if cl > 0.0 and light_two_sided[li] == 0:
                             continue
                         w = 1.0
-                        if depth > 0:
+                        if not prev_delta:
                             e_idx = n_emit - n_lights + li
                             pl = emit_prob[e_idx] * tl * tl / (light_geo[li, 12] * abs(cl))
                             w = power_heuristic(prev_pdf, pl)
@@ -246,113 +305,33 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     # emission: both sides (Blender's Emission shader) or the front side only
                     if mat_emis[m] >= 0 and (cos_i > 0.0 or (cos_i < 0.0 and mat_emis_two[m] != 0)):
                         w = 1.0
-                        if depth > 0:
+                        if not prev_delta:
                             pl = emit_prob[tri_emitter[prim]] * t * t / (area * abs(cos_i))
                             w = power_heuristic(prev_pdf, pl)
                         for i in range(NW):
                             rad[i] += beta[i] * w * mat_emis_scale[m] * lookup(spec, mat_emis[m], lam[i])
-                    if depth > max_depth or mat_refl[m] < 0:
+                    if depth > max_depth:
                         break
-                    if cos_i < 0.0:
-                        nx = -nx
-                        ny = -ny
-                        nz = -nz
-                    for i in range(NW):
-                        rho[i] = lookup(spec, mat_refl[m], lam[i])
-                    sox = px + eps * nx
-                    soy = py + eps * ny
-                    soz = pz + eps * nz
-                    # next-event estimation
-                    if n_emit > 0:
-                        ue = uniform(key, dim)
-                        ua = uniform(key, dim + 1)
-                        ub = uniform(key, dim + 2)
-                        # binary search in the cdf
-                        lo = 0
-                        hi = n_emit - 1
-                        while lo < hi:
-                            mid = (lo + hi) // 2
-                            if emit_cdf[mid + 1] <= ue:
-                                lo = mid + 1
-                            else:
-                                hi = mid
-                        ei = lo
-                        ok = True
-                        if emit_tri[ei] >= 0:
-                            tp = emit_tri[ei]
-                            su = math.sqrt(ua)
-                            b1 = 1.0 - su
-                            b2 = ub * su
-                            qx = v0[tp, 0] + b1 * e1[tp, 0] + b2 * e2[tp, 0]
-                            qy = v0[tp, 1] + b1 * e1[tp, 1] + b2 * e2[tp, 1]
-                            qz = v0[tp, 2] + b1 * e1[tp, 2] + b2 * e2[tp, 2]
-                            lnx = e1[tp, 1] * e2[tp, 2] - e1[tp, 2] * e2[tp, 1]
-                            lny = e1[tp, 2] * e2[tp, 0] - e1[tp, 0] * e2[tp, 2]
-                            lnz = e1[tp, 0] * e2[tp, 1] - e1[tp, 1] * e2[tp, 0]
-                            ll = math.sqrt(lnx * lnx + lny * lny + lnz * lnz)
-                            if ll == 0.0:
-                                ok = False
-                                ll = 1.0
-                            l_area = 0.5 * ll
-                            lnx /= ll
-                            lny /= ll
-                            lnz /= ll
-                            lm = tri_mat[tp]
-                            l_two = mat_emis_two[lm] != 0
-                            l_row = mat_emis[lm]
-                            l_scale = mat_emis_scale[lm]
+                    # mixes: pick one component (Mix: by weight; Add: either, counted twice)
+                    mix_w = 1.0
+                    for _ in range(C.MIX_DEPTH):
+                        mm = mat_model[m]
+                        if mm == C.MAT_MIX:
+                            m = int(mat_p[m, 1]) if uniform(key, dim) < mat_p[m, 0] else int(mat_p[m, 2])
+                            dim += 1
+                        elif mm == C.MAT_ADD:
+                            m = int(mat_p[m, 1]) if uniform(key, dim) < 0.5 else int(mat_p[m, 2])
+                            mix_w *= 2.0
+                            dim += 1
                         else:
-                            li = emit_light[ei]
-                            if light_kind[li] == C.LIGHT_RECT:
-                                a = 2.0 * ua - 1.0
-                                b = 2.0 * ub - 1.0
-                            else:
-                                r = math.sqrt(ua)
-                                ph = 2.0 * math.pi * ub
-                                a = r * math.cos(ph)
-                                b = r * math.sin(ph)
-                            qx = light_geo[li, 0] + a * light_geo[li, 3] + b * light_geo[li, 6]
-                            qy = light_geo[li, 1] + a * light_geo[li, 4] + b * light_geo[li, 7]
-                            qz = light_geo[li, 2] + a * light_geo[li, 5] + b * light_geo[li, 8]
-                            lnx = light_geo[li, 9]
-                            lny = light_geo[li, 10]
-                            lnz = light_geo[li, 11]
-                            l_area = light_geo[li, 12]
-                            l_two = light_two_sided[li] != 0
-                            l_row = light_spec[li]
-                            l_scale = light_scale[li]
-                        wx = qx - px
-                        wy = qy - py
-                        wz = qz - pz
-                        d2 = wx * wx + wy * wy + wz * wz
-                        dist = math.sqrt(d2)
-                        if dist > 0.0 and ok:
-                            wx /= dist
-                            wy /= dist
-                            wz /= dist
-                            cos_x = nx * wx + ny * wy + nz * wz
-                            cos_y = -(lnx * wx + lny * wy + lnz * wz)
-                            if cos_y < 0.0 and l_two:
-                                cos_y = -cos_y
-                            if cos_x > 0.0 and cos_y > 0.0:
-                                pl = emit_prob[ei] * d2 / (l_area * cos_y)
-                                if not occluded(sox, soy, soz, wx, wy, wz, 0.0, dist * (1.0 - 1e-4) - eps,
-                                                bmin, bmax, child, count, v0, e1, e2, stack):
-                                    w = power_heuristic(pl, cos_x * INV_PI)
-                                    g = w * cos_x * INV_PI * l_scale / pl
-                                    for i in range(NW):
-                                        rad[i] += beta[i] * rho[i] * g * lookup(spec, l_row, lam[i])
-                    dim += 3
-                    # BSDF sampling: cosine-weighted hemisphere around n (Lambert, item 47)
-                    u1 = uniform(key, dim)
-                    u2 = uniform(key, dim + 1)
-                    dim += 2
-                    r = math.sqrt(u1)
-                    ph = 2.0 * math.pi * u2
-                    lx = r * math.cos(ph)
-                    ly = r * math.sin(ph)
-                    lz = math.sqrt(max(0.0, 1.0 - u1))
-                    # orthonormal basis (Duff et al. 2017)
+                            break
+                    model = mat_model[m]
+                    if model == C.MAT_MIX or model == C.MAT_ADD:
+                        break
+                    pm = mat_p[m]
+                    _lookup_material(m, lam, spec, ior_tab, mat_ra, mat_rb, mat_eta, mat_kappa, mat_ior,
+                                     ra, rb, eta, kappa)
+                    # local frame around the geometric normal (Duff et al. 2017)
                     sgn = 1.0 if nz >= 0.0 else -1.0
                     aa = -1.0 / (sgn + nz)
                     bb = nx * ny * aa
@@ -362,19 +341,82 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     cx = bb
                     cy = sgn + ny * ny * aa
                     cz = -ny
-                    dx = lx * tx + ly * cx + lz * nx
-                    dy = lx * ty + ly * cy + lz * ny
-                    dz = lx * tz + ly * cz + lz * nz
-                    if lz <= 0.0:
+                    wox = -(dx * tx + dy * ty + dz * tz)
+                    woy = -(dx * cx + dy * cy + dz * cz)
+                    woz = cos_i
+                    flags_m = bsdf_flags(model, pm)
+                    # next-event estimation (skipped for purely specular materials)
+                    if n_emit > 0 and (flags_m & (BSDF_DIFFUSE | BSDF_GLOSSY)) != 0:
+                        ue = uniform(key, dim)
+                        lo = 0
+                        hi = n_emit - 1
+                        while lo < hi:
+                            mid = (lo + hi) // 2
+                            if emit_cdf[mid + 1] <= ue:
+                                lo = mid + 1
+                            else:
+                                hi = mid
+                        ei = lo
+                        qx, qy, qz, lnx, lny, lnz, l_area, l_two, l_row, l_scale, ok = _emitter_sample(
+                            ei, uniform(key, dim + 1), uniform(key, dim + 2), emit_tri, emit_light, v0, e1, e2,
+                            tri_mat, mat_emis, mat_emis_scale, mat_emis_two, light_kind, light_geo, light_spec,
+                            light_scale, light_two_sided)
+                        wx = qx - px
+                        wy = qy - py
+                        wz = qz - pz
+                        d2 = wx * wx + wy * wy + wz * wz
+                        dist = math.sqrt(d2)
+                        if dist > 0.0 and ok:
+                            wx /= dist
+                            wy /= dist
+                            wz /= dist
+                            cos_y = -(lnx * wx + lny * wy + lnz * wz)
+                            if cos_y < 0.0 and l_two:
+                                cos_y = -cos_y
+                            cos_n = nx * wx + ny * wy + nz * wz
+                            if cos_y > 0.0 and cos_n != 0.0:
+                                wix = wx * tx + wy * ty + wz * tz
+                                wiy = wx * cx + wy * cy + wz * cz
+                                pb = bsdf_eval(model, pm, ra, rb, eta, kappa, wox, woy, woz, wix, wiy, cos_n, fv)
+                                fmax = 0.0
+                                for i in range(NW):
+                                    fmax = max(fmax, fv[i])
+                                if fmax > 0.0:
+                                    pl = emit_prob[ei] * d2 / (l_area * cos_y)
+                                    side = 1.0 if cos_n > 0.0 else -1.0
+                                    if not occluded(px + side * eps * nx, py + side * eps * ny, pz + side * eps * nz,
+                                                    wx, wy, wz, 0.0, dist * (1.0 - 1e-4) - eps,
+                                                    bmin, bmax, child, count, v0, e1, e2, stack):
+                                        w = power_heuristic(pl, pb)
+                                        g = mix_w * w * abs(cos_n) * l_scale / pl
+                                        for i in range(NW):
+                                            rad[i] += beta[i] * fv[i] * g * lookup(spec, l_row, lam[i])
+                    dim += 3
+                    # BSDF sampling
+                    wix, wiy, wiz, pdf, flags = bsdf_sample(model, pm, ra, rb, eta, kappa, wox, woy, woz,
+                                                            uniform(key, dim), uniform(key, dim + 1),
+                                                            uniform(key, dim + 2), fv)
+                    dim += 3
+                    if flags == 0:
                         break
-                    prev_pdf = lz * INV_PI
+                    if (flags & BSDF_DISPERSIVE) != 0 and not dispersed:
+                        terminate_secondary(pdf_lam)
+                        dispersed = True
                     q = 0.0
                     for i in range(NW):
-                        beta[i] *= rho[i]
-                        q = max(q, beta[i])
-                    ox = sox
-                    oy = soy
-                    oz = soz
+                        beta[i] *= fv[i] * mix_w
+                        if pdf_lam[i] > 0.0:
+                            q = max(q, beta[i])
+                    prev_delta = (flags & BSDF_DELTA) != 0
+                    prev_pdf = pdf
+                    # back to world space
+                    dx = wix * tx + wiy * cx + wiz * nx
+                    dy = wix * ty + wiy * cy + wiz * ny
+                    dz = wix * tz + wiy * cz + wiz * nz
+                    side = 1.0 if wiz > 0.0 else -1.0
+                    ox = px + side * eps * nx
+                    oy = py + side * eps * ny
+                    oz = pz + side * eps * nz
                     depth += 1
                     if q <= 0.0:
                         break

@@ -15,14 +15,17 @@ import numba.core.config
 
 
 def _source_key():
-    """Hash of every source a kernel can inline, and of the numba version.
+    """Hash of every source a kernel can inline or call (kernels, BSDFs, samplers), and
+    of the numba version.
 
     numba's cache notices edits to the file holding an entry kernel but not to callees
     in other files, so the cache folder is keyed by all of them.
     """
     core = Path(__file__).resolve().parent
     h = hashlib.sha256(numba.__version__.encode())
-    for p in sorted([*(core / "kernels").glob("*.py"), core / "constants.py", core / "jit.py"]):
+    sources = [*(core / "kernels").glob("*.py"), *(core / "bsdfs").glob("*.py"), *(core / "sampling").glob("*.py"),
+               core / "constants.py", core / "jit.py"]
+    for p in sorted(sources):
         h.update(p.name.encode())
         h.update(p.read_bytes())
     return h.hexdigest()[:16]

@@ -1,12 +1,12 @@
 """BSDF library (compendium items 37-50): every model is an integer tag (``MAT_*`` in
 core/constants.py) and a float64[16] parameter row (``params``).
 
-* ``dispatch``   the ``@inline`` interface for kernels: bsdf_eval, bsdf_pdf, bsdf_sample, bsdf_flags
+* ``dispatch``   the interface for kernels: bsdf_eval, bsdf_pdf, bsdf_sample (``@function``), bsdf_flags
 * ``params``     row layouts, sample flags (BSDF_*), NumPy builders with validation
 * ``fresnel``    dielectric and conductor Fresnel equations (item 42), scalar helpers
-* ``phong``      Lambert (47), modified Phong in both forms (48)
+* ``phong``      Lambert (47), modified Phong in the half-vector form (48b)
 * ``ward``       Ward isotropic / anisotropic with three normalisations (49)
-* ``lafortune``  generalised cosine lobes (50)
+* ``lafortune``  generalised cosine lobes: Lafortune (50) and the mirror-direction Phong (48a)
 * ``specular``   mirror (37), smooth dielectric (38-42), smooth conductor (42)
 * ``microfacet`` GGX distribution, Smith masking, visible-normal sampling
 * ``ggx``        rough conductor and rough dielectric (Walter et al. 2007)

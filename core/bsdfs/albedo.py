@@ -12,6 +12,7 @@ the sample weights, delta events included), ``albedo_quadrature`` by a product r
 over the sphere from ``bsdf_eval`` (non-delta components only) — the two are
 independent checks of each other.
 """
+import functools
 from typing import NamedTuple
 
 import numpy as np
@@ -25,6 +26,14 @@ class Albedo(NamedTuple):
     transmittance: np.ndarray  # (NW,)
     reflectance_se: np.ndarray  # standard errors (0 for the quadrature)
     transmittance_se: np.ndarray
+
+
+@functools.lru_cache(maxsize=8)
+def _gauss_legendre(n):
+    x, w = np.polynomial.legendre.leggauss(n)
+    x.flags.writeable = False
+    w.flags.writeable = False
+    return x, w
 
 
 def _wo(theta_o, phi_o):
@@ -78,7 +87,7 @@ def albedo_quadrature(model, params, ra=1.0, rb=1.0, eta=1.5, kappa=0.0, theta_o
     """
     p = check_row(params)
     ra, rb, eta, kappa = _spectra(ra, rb, eta, kappa)
-    x, wx = np.polynomial.legendre.leggauss(int(n_theta))
+    x, wx = _gauss_legendre(int(n_theta))
     mu = 0.5 * (x + 1.0)  # cos θ in (0, 1)
     wmu = 0.5 * wx
     phi = (np.arange(int(n_phi)) + 0.5) * (2.0 * np.pi / n_phi)

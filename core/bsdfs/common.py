@@ -50,14 +50,6 @@ def reflect(wox, woy, woz, hx, hy, hz):
 
 
 @inline
-def normalize3(x, y, z):
-    n = math.sqrt(x * x + y * y + z * z)
-    if not (n > 0.0) or n == math.inf:
-        return 0.0, 0.0, 0.0, 0.0
-    return x / n, y / n, z / n, n
-
-
-@inline
 def all_equal(a):
     """True when every entry of the array equals the first (no dispersion)."""
     for i in range(1, a.shape[0]):

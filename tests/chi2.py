@@ -189,8 +189,9 @@ def _dump(name, observed, expected, extra=None):
     return folder
 
 
-def chi2_test(observed, expected, alpha, name="chi2", extra=None):
-    """Pearson's test of the observed counts against the expected counts (same shape)."""
+def chi2_test(observed, expected, alpha, name="chi2", extra=None, dump=True):
+    """Pearson's test of the observed counts against the expected counts (same shape);
+    on failure the tables are written to a temporary folder unless ``dump`` is False."""
     observed = np.asarray(observed, dtype=np.float64)
     expected = np.asarray(expected, dtype=np.float64)
     o = observed.ravel()
@@ -206,19 +207,19 @@ def chi2_test(observed, expected, alpha, name="chi2", extra=None):
         p = float(stats.chi2.sf(stat, dof))
     passed = p >= alpha
     msg = f"{name}: chi2 = {stat:.2f}, dof = {dof}, p = {p:.3g} (alpha = {alpha:.3g}), N = {int(n)}"
-    dump = "" if passed else _dump(name, observed, expected, extra)
-    if dump:
-        msg += f"; tables in {dump}"
-    return Chi2Result(stat, dof, p, alpha, passed, msg, dump)
+    folder = "" if passed or not dump else _dump(name, observed, expected, extra)
+    if folder:
+        msg += f"; tables in {folder}"
+    return Chi2Result(stat, dof, p, alpha, passed, msg, folder)
 
 
-def _zero_density_failure(values, name, alpha, observed, expected):
+def _zero_density_failure(values, name, alpha, observed, expected, dump=True):
     bad = int(np.count_nonzero(~(np.asarray(values) > 0)))
     if bad == 0:
         return None
     msg = f"{name}: {bad} samples fell where the density is 0"
-    dump = _dump(name, observed, expected)
-    return Chi2Result(math.inf, 0, 0.0, alpha, False, msg + f"; tables in {dump}", dump)
+    folder = _dump(name, observed, expected) if dump else ""
+    return Chi2Result(math.inf, 0, 0.0, alpha, False, msg + (f"; tables in {folder}" if folder else ""), folder)
 
 
 def frame_rows(axis):
@@ -231,7 +232,7 @@ def frame_rows(axis):
     return np.stack([t, np.cross(n, t), n])
 
 
-def chi2_sphere(dirs, pdf, alpha, name="sphere", n_z=32, n_phi=64, z_range=(-1.0, 1.0), axis=None):
+def chi2_sphere(dirs, pdf, alpha, name="sphere", n_z=32, n_phi=64, z_range=(-1.0, 1.0), axis=None, dump=True):
     """Test directions (N, 3) against the solid-angle density ``pdf(w (M, 3)) → (M,)``.
 
     Cells are equal steps of cos θ in z_range × equal steps of φ about ``axis`` (default
@@ -264,13 +265,14 @@ def chi2_sphere(dirs, pdf, alpha, name="sphere", n_z=32, n_phi=64, z_range=(-1.0
             out_exp.append(0.0)
     obs = np.concatenate([observed.ravel(), out_obs])
     exp = np.concatenate([expected.ravel(), [sum(out_exp)]])
-    fail = _zero_density_failure(pdf(dirs), name, alpha, observed, expected)
+    fail = _zero_density_failure(pdf(dirs), name, alpha, observed, expected, dump)
     if fail is not None:
         return fail
-    return chi2_test(obs, exp, alpha, name, extra={"observed_grid": observed, "expected_grid": expected})
+    return chi2_test(obs, exp, alpha, name, extra={"observed_grid": observed, "expected_grid": expected}, dump=dump)
 
 
-def chi2_plane(points, pdf, alpha, name="plane", nx=32, ny=32, x_range=(0.0, 1.0), y_range=(0.0, 1.0)):
+def chi2_plane(points, pdf, alpha, name="plane", nx=32, ny=32, x_range=(0.0, 1.0), y_range=(0.0, 1.0),
+               dump=True):
     """Test 2D points (N, 2) against the area density ``pdf(x, y) → (M,)`` on a rectangle
     (the points must all fall inside it; anything outside fails)."""
     pts = np.asarray(points, dtype=np.float64)
@@ -284,10 +286,10 @@ def chi2_plane(points, pdf, alpha, name="plane", nx=32, ny=32, x_range=(0.0, 1.0
     expected = n * integrate_cells(pdf, x_edges, y_edges, n, support=pts)
     obs = np.concatenate([observed.ravel(), [np.count_nonzero(~inside)]])
     exp = np.concatenate([expected.ravel(), [0.0]])
-    fail = _zero_density_failure(pdf(pts[:, 0], pts[:, 1]), name, alpha, observed, expected)
+    fail = _zero_density_failure(pdf(pts[:, 0], pts[:, 1]), name, alpha, observed, expected, dump)
     if fail is not None:
         return fail
-    return chi2_test(obs, exp, alpha, name, extra={"observed_grid": observed, "expected_grid": expected})
+    return chi2_test(obs, exp, alpha, name, extra={"observed_grid": observed, "expected_grid": expected}, dump=dump)
 
 
 def chi2_interval(x, pdf, alpha, name="interval", bins=64, x_range=(0.0, 1.0)):

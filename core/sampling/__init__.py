@@ -22,10 +22,9 @@ from .tags import (FLAG_DELTA, FLAG_INVALID, FLAG_VALID, N_WARPS, RANDOMIZE_CP, 
                    WARP_SPHERICAL_TRIANGLE, WARP_TRIANGLE_AREA, WARP_UNIFORM_CONE, WARP_UNIFORM_HEMISPHERE,
                    WARP_UNIFORM_SPHERE)
 
-# the renderer's sampler setting (stored as these integers)
-SAMPLER_INDEPENDENT = SAMPLER_INDEPENDENT
-SAMPLER_HALTON = SAMPLER_HALTON
-SAMPLER_HAMMERSLEY = SAMPLER_HAMMERSLEY
+# The renderer's sampler setting: SAMPLER_INDEPENDENT = 0, SAMPLER_HALTON = 1,
+# SAMPLER_HAMMERSLEY = 2 (defined in tags.py so kernels can import them without this
+# package's submodules; never renumber).
 
 from .distrib import build_distribution_1d, build_distribution_2d  # noqa: E402
 from .mis import combine_multi_sample, combine_one_sample, mis_weights  # noqa: E402

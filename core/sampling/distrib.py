@@ -22,8 +22,6 @@ callers can tell. ``sample_*`` return the continuous position, its pdf and the c
 ``invert_*`` returns the u that maps to a position (the cdf), so
 ``sample(invert(x)) == x`` and ``sample(cdf[i]) == i / n`` exactly at cell boundaries.
 """
-import math
-
 import numpy as np
 
 from ..jit import inline

@@ -237,14 +237,15 @@ def sample_spherical_triangle(a, b, c, u):
 
 
 def spherical_triangle_pdf(a, b, c, w):
+    """1/Ω (L'Huilier) inside the triangle: on the inner side of the three edge planes,
+    within 1e-12 rad (the kernel's tolerance)."""
     A, B, C = _unit(a), _unit(b), _unit(c)
     w = _unit(w)
-    det = np.dot(A, np.cross(B, C))
-    s = np.sign(det)
-    e0 = s * (w @ np.cross(A, B))
-    e1 = s * (w @ np.cross(B, C))
-    e2 = s * (w @ np.cross(C, A))
-    inside = (e0 >= -1e-12) & (e1 >= -1e-12) & (e2 >= -1e-12)  # the kernel's edge tolerance
+    s = np.sign(np.dot(A, np.cross(B, C)))
+    inside = np.ones(len(w), dtype=bool)
+    for p, q in ((A, B), (B, C), (C, A)):
+        n = np.cross(p, q)
+        inside &= s * (w @ n) / np.linalg.norm(n) >= -1e-12
     return np.where(inside, 1.0 / spherical_triangle_area_lhuilier(A, B, C), 0.0)
 
 

@@ -15,7 +15,9 @@ Every value is a pure function of (index, dimension, seed), so a render kernel c
   the bit order of i), in the manner of Laine and Karras (2011) and Burley (JCGT
   2020), built here from add / odd multiply / x ^= x·even steps keyed by the seed.
   Other bases use an affine permutation a → (m a + s) mod b per digit with m, s drawn
-  from a hash of the prefix (a random digit permutation of the same nested structure).
+  from a hash of the prefix (a random digit permutation of the same nested structure);
+  past the index's last digit (and below 2^-32) the scrambled zeros are i.i.d. uniform
+  digits, drawn at once as one uniform tail.
 * Cranley–Patterson rotation: x + r mod 1 with r a hash of (seed, dimension).
 
 Dimensions beyond the prime table fall back to independent random numbers.
@@ -44,6 +46,7 @@ ONE_MINUS_EPS = 1.0 - 2.0 ** -53
 _INV53 = 2.0 ** -53
 _TWO53 = 9007199254740992.0
 _MAX_EXACT = 2 ** 53
+_TWO32 = 4294967296.0
 
 _U1 = np.uint64(1)
 _S1 = np.uint64(1)
@@ -172,7 +175,7 @@ def owen_scrambled_radical_inverse(base, i, key):
     h = key
     result = 0.0
     bpow = 1.0
-    while bpow < _TWO53:
+    while (n > 0 or bpow < _TWO32) and bpow < _TWO53:
         d = n % b
         n //= b
         r = mix64(h)
@@ -184,6 +187,11 @@ def owen_scrambled_radical_inverse(base, i, key):
         result += float(pd) / bpow
         # the prefix for the next (less significant) output digit includes this input digit
         h = mix64(h ^ ((np.uint64(d) + np.uint64(1)) * _DIG_SALT))
+    # The remaining digits of i are 0; scrambled by permutations that depend on the whole
+    # prefix, they are i.i.d. uniform digits: one uniform tail drawn in one go. Every index
+    # scrambles at least the digits down to b^-k < 2^-32, so the first b^k points stay
+    # stratified for any b^k ≤ 2^32.
+    result += uniform(h, 0) / bpow
     return min(result, ONE_MINUS_EPS)
 
 

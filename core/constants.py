@@ -43,16 +43,32 @@ MAT_GGX_CONDUCTOR = 8  # rough conductor, GGX (Walter et al. 2007)
 MAT_GGX_DIELECTRIC = 9  # rough dielectric, GGX reflection + transmission (Walter et al. 2007)
 MAT_MIX = 10  # params [w, a, b]: material a with probability w, else b (Blender's Mix Shader)
 MAT_ADD = 11  # params [-, a, b]: the sum of materials a and b (Blender's Add Shader)
-MATERIAL_MODELS = tuple(range(12))
+MAT_PLASTIC = 12  # rough dielectric coat (GGX, Fresnel) over a Lambert base (Principled, metallic 0)
+MATERIAL_MODELS = tuple(range(13))
 MATERIAL_PARAMS = 16  # length of a material's parameter row
 MIX_DEPTH = 8  # deepest nesting of mixes the kernel follows
 
 # Light tags (analytic lights; emissive triangles are handled by the material).
 LIGHT_RECT = 0
 LIGHT_ELLIPSE = 1
+LIGHT_POINT = 2  # sphere of ``radius`` (0: a point), luminous intensity ``intensity`` cd
+LIGHT_SPOT = 3  # point/sphere light restricted to a cone (Blender's spot size and blend)
+LIGHT_SUN = 4  # distant light: ``illuminance`` lux normal to ``direction``, angular diameter ``angle``
+LIGHT_KINDS = (LIGHT_RECT, LIGHT_ELLIPSE, LIGHT_POINT, LIGHT_SPOT, LIGHT_SUN)
 
 # Camera projection tags.
 CAM_PERSPECTIVE = 0
+CAM_ORTHOGRAPHIC = 1
+
+# Pixel filters (RenderSettings.filter).
+FILTER_BOX = 0
+FILTER_BLACKMAN_HARRIS = 1  # Cycles' default, width 1.5 px
+FILTER_GAUSSIAN = 2
+
+# Samplers (RenderSettings.sampler); the same numbers as core.sampling's SAMPLER_* tags.
+SAMPLER_INDEPENDENT = 0
+SAMPLER_HALTON = 1
+SAMPLER_HAMMERSLEY = 2
 
 # Sensor fit (as Blender's Camera.sensor_fit).
 FIT_AUTO = 0

@@ -117,10 +117,19 @@ class Material:
 
 @dataclass
 class Light:
-    """An analytic area light: a rectangle or an ellipse spanned by two half-axes.
+    """An analytic light (``kind``, a LIGHT_* tag).
 
-    It emits from the side of ``cross(axis_u, axis_v)`` (both sides if ``two_sided``),
-    with uniform radiance whose luminance is ``luminance`` cd/m².
+    * LIGHT_RECT / LIGHT_ELLIPSE: a rectangle or ellipse spanned by two half-axes,
+      emitting from the side of ``cross(axis_u, axis_v)`` (both sides if
+      ``two_sided``) with uniform radiance of ``luminance`` cd/m².
+    * LIGHT_POINT: a sphere of ``radius`` m at ``position`` (0: a point) of luminous
+      intensity ``intensity`` cd in every direction (as Blender's point light).
+    * LIGHT_SPOT: a point light restricted to a cone around ``direction`` of full angle
+      ``spot_angle`` rad, softened by ``spot_blend`` (Blender's smoothstep); ``intensity``
+      cd on the axis.
+    * LIGHT_SUN: a distant light travelling along ``direction``, giving ``illuminance``
+      lux on a surface facing it, with angular diameter ``angle`` rad.
+    ``axis_u``/``axis_v`` are unused by point, spot and sun lights (pass zeros).
     """
 
     name: str
@@ -132,6 +141,13 @@ class Light:
     luminance: float  # cd/m²
     two_sided: bool = False
     visible: bool = False  # seen directly by camera rays (Blender 5.0's default: no)
+    radius: float = 0.0  # point/spot: sphere radius, m
+    intensity: float = 0.0  # point/spot: luminous intensity, cd
+    direction: tuple = (0.0, 0.0, -1.0)  # spot: cone axis; sun: direction the light travels
+    spot_angle: float = math.pi  # spot: full cone angle, rad (Blender's spot_size)
+    spot_blend: float = 0.0  # spot: Blender's spot_blend in [0, 1]
+    illuminance: float = 0.0  # sun: lux on a surface facing it
+    angle: float = 0.0  # sun: angular diameter, rad
 
 
 @dataclass
@@ -152,7 +168,10 @@ class Camera:
     sensor_fit: int = C.FIT_AUTO
     shift_x: float = 0.0
     shift_y: float = 0.0
-    projection: int = C.CAM_PERSPECTIVE
+    projection: int = C.CAM_PERSPECTIVE  # CAM_PERSPECTIVE or CAM_ORTHOGRAPHIC
+    ortho_scale: float = 6.0  # orthographic: extent of the fitted axis, m (Blender's ortho_scale)
+    fstop: float = 0.0  # thin lens: f-number; 0 = pinhole (no depth of field)
+    focus_distance: float = 10.0  # thin lens: distance in focus, m
 
 
 @dataclass
@@ -167,6 +186,11 @@ class RenderSettings:
     max_depth: int = 64  # maximum bounces, as Cycles' Max Bounces (0: direct light only)
     rr_depth: int = 3  # Russian roulette starts after this many bounces
     seed: int = 0
+    sampler: int = C.SAMPLER_INDEPENDENT  # SAMPLER_* (independent, Halton, Hammersley)
+    filter: int = C.FILTER_BLACKMAN_HARRIS  # FILTER_* (pixel filter, Cycles' default)
+    filter_width: float = 1.5  # pixels
+    time_limit: float = 0.0  # seconds; 0 = none
+    noise_target: float = 0.0  # stop when the relative standard error of luminance is below; 0 = none
 
 
 @dataclass

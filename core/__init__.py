@@ -17,6 +17,14 @@ from .scenes import cornell_box
 from .spectra.uplift import (emission_from_rgb, emission_from_samples, emission_to_rgb, reflectance_from_rgb,
                              reflectance_from_samples, reflectance_to_rgb)
 from .units import EMITTER_UNITS, area_light_luminance, emission_luminance, emitter_luminance
+# materials: BSDF parameter rows, IOR tables and named spectral presets (the add-on's material export)
+from .bsdfs.params import (blinn_phong_params, conductor_params, dielectric_params, ggx_conductor_params,
+                           ggx_dielectric_params, lafortune_params, lambert_params, make_params, mirror_params,
+                           phong_params, ward_params)
+from .material_presets import (glass_preset, glass_preset_names, metal_preset, metal_preset_names,
+                               reflectance_preset, reflectance_preset_names, tabulate_reflectance,
+                               wavelength_grid)
+from .scene import IORTable
 
 __all__ = [
     "constants",
@@ -28,4 +36,9 @@ __all__ = [
     "render", "RenderStats", "kernels_compiled", "Film", "Developed", "develop",
     "write_exr", "read_exr", "write_png",
     "cornell_box", "load_cornell_box_data",
+    "IORTable", "make_params", "lambert_params", "phong_params", "blinn_phong_params", "ward_params",
+    "lafortune_params", "mirror_params", "dielectric_params", "conductor_params", "ggx_conductor_params",
+    "ggx_dielectric_params",
+    "wavelength_grid", "reflectance_preset_names", "metal_preset_names", "glass_preset_names",
+    "reflectance_preset", "metal_preset", "glass_preset", "tabulate_reflectance",
 ]

@@ -79,7 +79,8 @@ def export_scene(depsgraph, scene=None, should_cancel=None):
     core_world = export_world(ctx, world)
     if not ctx.materials:
         ctx.default_material()
-    result = Scene(meshes=meshes, spectra=ctx.spectra, materials=ctx.materials, lights=lights, camera=camera,
+    result = Scene(meshes=meshes, spectra=ctx.spectra, materials=ctx.materials, ior_tables=ctx.ior_tables,
+                   lights=lights, camera=camera,
                    world=core_world, settings=render_settings(scene),
                    metadata={"source": "Blender " + bpy.app.version_string, "scene": scene.name,
                              "blend_file": bpy.data.filepath,

@@ -21,13 +21,15 @@ class ExportContext:
     """
 
     def __init__(self, scale_length=1.0, should_cancel=None):
-        from ...core import SpectrumTable
+        from ...core import IORTable, SpectrumTable
 
         if not scale_length > 0.0:
             raise ExportError(f"the scene's unit scale must be positive, got {scale_length}")
         self.scale_length = float(scale_length)
         self._should_cancel = should_cancel
         self.spectra = SpectrumTable.empty()
+        self.ior_tables = IORTable.empty()  # η(λ), κ(λ) curves of metals and glasses
+        self._ior_index = {}
         self.materials = []
         self._material_index = {}
         self._spectrum_index = {}
@@ -80,14 +82,29 @@ class ExportContext:
                                                          constants.SPECTRUM_UNBOUNDED)
         return self._spectrum_index[key]
 
+    def ior_table(self, name, values):
+        """Index into ``ior_tables`` of the curve ``name`` (N_LAMBDA values on the 1 nm grid), added once."""
+        if name not in self._ior_index:
+            self._ior_index[name] = self.ior_tables.add(name, values)
+        return self._ior_index[name]
+
     # ----------------------------------------------------------------- materials
 
     def material_index(self, key, build):
-        """Index of the material for ``key``; ``build()`` returns a core Material the first time."""
+        """Index of the material for ``key``; ``build()`` returns a core Material the first time.
+
+        ``build`` may add other materials (the components of a mix) before returning.
+        """
         if key not in self._material_index:
+            material = build()
             self._material_index[key] = len(self.materials)
-            self.materials.append(build())
+            self.materials.append(material)
         return self._material_index[key]
+
+    def add_material(self, material):
+        """Append a component material (of a mix) and return its index."""
+        self.materials.append(material)
+        return len(self.materials) - 1
 
     def default_material(self):
         from ...core import Material

@@ -44,7 +44,8 @@ MAT_GGX_DIELECTRIC = 9  # rough dielectric, GGX reflection + transmission (Walte
 MAT_MIX = 10  # params [w, a, b]: material a with probability w, else b (Blender's Mix Shader)
 MAT_ADD = 11  # params [-, a, b]: the sum of materials a and b (Blender's Add Shader)
 MAT_PLASTIC = 12  # rough dielectric coat (GGX, Fresnel) over a Lambert base (Principled, metallic 0)
-MATERIAL_MODELS = tuple(range(13))
+MAT_NULL = 13  # no surface: rays pass straight through; only bounds a medium (Blender's volume-only objects)
+MATERIAL_MODELS = tuple(range(14))
 MATERIAL_PARAMS = 16  # length of a material's parameter row
 MIX_DEPTH = 8  # deepest nesting of mixes the kernel follows
 

@@ -113,6 +113,30 @@ class Material:
     ior: float = 1.5  # constant relative index when ``eta_table`` is -1
     eta_table: int = -1  # index into Scene.ior_tables for η(λ); -1 = constant ``ior``
     kappa_table: int = -1  # index into Scene.ior_tables for κ(λ); -1 = 0
+    interior: int = -1  # index into Scene.media of the medium behind the surface (its back side); -1 = none
+
+
+@dataclass
+class Medium:
+    """A homogeneous participating medium (compendium item 54), filling the inside of the
+    closed meshes whose material names it as ``interior``.
+
+    Its coefficients, per metre, are a density times a spectral shape:
+    σa(λ) = ``absorption_density`` · A(λ) and σs(λ) = ``scattering_density`` · S(λ), where
+    A and S are rows of Scene.spectra (``absorption``, ``scattering``) or 1 at every
+    wavelength when the index is -1 (a grey medium). A bounded spectrum gives a shape in
+    [0, 1] (a colour, as Blender's volume colours); an unbounded one any positive curve
+    (e.g. a measured σ(λ) in 1/m with density 1). Extinction σt = σa + σs, single-scattering
+    albedo σs/σt. The phase function is Henyey–Greenstein with asymmetry ``anisotropy``
+    g in (-1, 1): 0 isotropic, > 0 forward scattering (Blender's Anisotropy).
+    """
+
+    name: str
+    absorption: int = -1  # spectrum index (bounded or unbounded shape); -1 = flat 1
+    absorption_density: float = 0.0  # 1/m
+    scattering: int = -1  # spectrum index (bounded or unbounded shape); -1 = flat 1
+    scattering_density: float = 0.0  # 1/m
+    anisotropy: float = 0.0  # Henyey–Greenstein g in (-1, 1)
 
 
 @dataclass
@@ -200,6 +224,7 @@ class Scene:
     materials: list[Material] = field(default_factory=list)
     lights: list[Light] = field(default_factory=list)
     ior_tables: IORTable = field(default_factory=IORTable.empty)
+    media: list[Medium] = field(default_factory=list)
     camera: Camera = field(default_factory=lambda: Camera(np.eye(4)))
     world: World = field(default_factory=World)
     settings: RenderSettings = field(default_factory=RenderSettings)
@@ -287,6 +312,20 @@ def validate(scene: Scene) -> Scene:
             want = "bounded (reflectance)" if kind == C.SPECTRUM_BOUNDED else "unbounded (emission)"
             _fail(name, f"spectrum {idx} ({sp.names[idx]!r}) must be {want}")
 
+    n_med = len(scene.media)
+    for i, md in enumerate(scene.media):
+        nm = f"media[{i}] ({md.name!r})"
+        for key in ("absorption", "scattering"):
+            idx = getattr(md, key)
+            _check_number(f"{nm}.{key}", idx, integer=True)
+            if not -1 <= idx < n_spec:
+                _fail(f"{nm}.{key}", f"spectrum index {idx} out of range [-1, {n_spec})")
+        _check_number(f"{nm}.absorption_density", md.absorption_density, lo=0.0, hi=1e9)
+        _check_number(f"{nm}.scattering_density", md.scattering_density, lo=0.0, hi=1e9)
+        _check_number(f"{nm}.anisotropy", md.anisotropy)
+        if not -1.0 < md.anisotropy < 1.0:
+            _fail(f"{nm}.anisotropy", f"Henyey–Greenstein g must be in (-1, 1), got {md.anisotropy}")
+
     n_mat = len(scene.materials)
     it = scene.ior_tables
     _check_array("ior_tables.values", it.values, np.float32, (len(it), C.N_LAMBDA))
@@ -306,6 +345,11 @@ def validate(scene: Scene) -> Scene:
             _check_number(f"{nm}.{key}", idx, integer=True)
             if not -1 <= idx < len(it):
                 _fail(f"{nm}.{key}", f"index {idx} out of range [-1, {len(it)})")
+        _check_number(f"{nm}.interior", m.interior, integer=True)
+        if not -1 <= m.interior < n_med:
+            _fail(f"{nm}.interior", f"medium index {m.interior} out of range [-1, {n_med})")
+        if m.model == C.MAT_NULL and m.emission != -1 and m.emission_luminance > 0.0:
+            _fail(f"{nm}.emission", "a null surface (model MAT_NULL) cannot emit")
         if m.params is not None:
             row = np.asarray(m.params, dtype=np.float64) if not isinstance(m.params, np.ndarray) else m.params
             if row.ndim != 1 or row.size > C.MATERIAL_PARAMS:
@@ -321,6 +365,8 @@ def validate(scene: Scene) -> Scene:
             for k in (1, 2):
                 if int(row[k]) != row[k] or not 0 <= row[k] < n_mat or int(row[k]) == i:
                     _fail(f"{nm}.params", f"component {row[k]} is not another material's index")
+                if scene.materials[int(row[k])].model == C.MAT_NULL:
+                    _fail(f"{nm}.params", f"component {int(row[k])} is a null surface, which cannot be mixed")
     # mixes must not form cycles (the kernel follows at most MIX_DEPTH links)
     for i, m in enumerate(scene.materials):
         seen = [i]
@@ -395,7 +441,7 @@ def validate(scene: Scene) -> Scene:
 
 # --------------------------------------------------------------------------- save / load
 
-_RECORDS = {"materials": Material, "lights": Light}
+_RECORDS = {"materials": Material, "lights": Light, "media": Medium}
 
 
 def _to_jsonable(obj):
@@ -434,6 +480,7 @@ def to_dict_and_arrays(scene: Scene):
         "materials": [dataclasses.asdict(m) for m in scene.materials],
         "ior_tables": {"names": list(scene.ior_tables.names), "values": "ior_tables.values"},
         "lights": [dataclasses.asdict(li) for li in scene.lights],
+        "media": [dataclasses.asdict(md) for md in scene.media],
         "meshes": meshes,
         "camera": cam,
         "world": dataclasses.asdict(scene.world),
@@ -527,6 +574,7 @@ def load(path) -> Scene:
         ior_tables = IORTable.empty() if itd is None else IORTable(arr(itd["values"], "ior_tables.values"),
                                                                  list(itd["names"]))
         lights = [record(Light, d, f"lights[{i}]") for i, d in enumerate(doc["lights"])]
+        media = [record(Medium, d, f"media[{i}]") for i, d in enumerate(doc.get("media") or [])]
         camd = dict(doc["camera"])
         camd["to_world"] = np.asarray(camd.get("to_world"), dtype=np.float64)
         camera = record(Camera, camd, "camera")
@@ -539,6 +587,6 @@ def load(path) -> Scene:
             raise
         raise SceneError(f"scene file: malformed content in {path.name} ({e})") from None
     scene = Scene(meshes=meshes, spectra=spectra, materials=materials, lights=lights, ior_tables=ior_tables,
-                  camera=camera, world=world, settings=settings, metadata=dict(doc.get("metadata") or {}),
+                  media=media, camera=camera, world=world, settings=settings, metadata=dict(doc.get("metadata") or {}),
                   version=version)
     return validate(scene)

@@ -81,6 +81,10 @@ class Prepared:
     cam: np.ndarray
     scene_scale: float
     build_seconds: float
+    mat_medium: np.ndarray = None  # int32 (K,): interior medium of each material, -1 none
+    med_tab: np.ndarray = None  # float64 (2 M, N_LAMBDA): σa, σs rows (1/m); (0, N_LAMBDA) without media
+    med_g: np.ndarray = None  # float64 (M,): Henyey–Greenstein g
+    cam_medium: int = -1  # the medium around the camera
 
 
 def cmf_table(observer="1931"):
@@ -137,6 +141,8 @@ def material_row(m, index=0):
         p = np.asarray(m.params, dtype=np.float64).reshape(-1)
         row[:p.size] = p
         return row
+    if m.model == C.MAT_NULL:
+        return row
     if m.model in (C.MAT_MIX, C.MAT_ADD):
         raise SceneError(f"materials[{index}] ({m.name!r}).params: a mix needs its parameters")
     try:
@@ -144,6 +150,58 @@ def material_row(m, index=0):
     except (TypeError, ValueError) as e:
         raise SceneError(f"materials[{index}] ({m.name!r}).params: model {m.model} needs parameters ({e})") \
             from None
+
+
+def media_tables(scene: Scene, spec):
+    """(mat_medium, med_tab, med_g) for the kernel: the coefficient rows σa = density × shape
+    (1 where the shape is -1) and σs likewise, per medium, on the 1 nm grid.
+
+    Without media and null surfaces med_tab has no rows and the kernel skips all media code.
+    """
+    n_mat = max(1, len(scene.materials))
+    mat_medium = np.full(n_mat, -1, np.int32)
+    for i, m in enumerate(scene.materials):
+        mat_medium[i] = m.interior
+    has_null = any(m.model == C.MAT_NULL for m in scene.materials)
+    if not scene.media and not has_null:
+        return mat_medium, np.zeros((0, C.N_LAMBDA)), np.zeros(1)
+    n = max(1, len(scene.media))
+    tab = np.zeros((2 * n, C.N_LAMBDA))
+    g = np.zeros(n)
+    for k, md in enumerate(scene.media):
+        for r, (idx, dens) in enumerate(((md.absorption, md.absorption_density),
+                                         (md.scattering, md.scattering_density))):
+            shape = spec[idx].astype(np.float64) if idx >= 0 else np.ones(C.N_LAMBDA)
+            tab[2 * k + r] = dens * np.maximum(shape, 0.0)
+        g[k] = md.anisotropy
+    return mat_medium, np.ascontiguousarray(tab), g
+
+
+def camera_medium(scene: Scene, v0, v1, v2, tri_mat_orig, mat_medium):
+    """The medium around the camera: along a few fixed directions, the nearest surface
+    whose material has an interior medium; seen from its back side, the camera is inside.
+    (One level of nesting, as the kernel tracks.) The majority of the directions decides,
+    so a ray through an edge cannot."""
+    from .accel import brute_force_closest
+
+    bound = np.nonzero(mat_medium[tri_mat_orig] >= 0)[0] if tri_mat_orig.size else np.zeros(0, np.int64)
+    if bound.size == 0:
+        return -1
+    eye = np.asarray(scene.camera.to_world, np.float64)[:3, 3]
+    dirs = np.array([[0.2673, 0.5345, 0.8018], [-0.7071, 0.3015, -0.6396], [0.4364, -0.8729, 0.2182]])
+    dirs /= np.linalg.norm(dirs, axis=1)[:, None]
+    a, b, c = v0[bound], v1[bound], v2[bound]
+    t, hit = brute_force_closest(a.astype(np.float32), b.astype(np.float32), c.astype(np.float32),
+                                 np.repeat(eye[None], 3, 0), dirs)
+    votes = []
+    for k in range(3):
+        if hit[k] < 0:
+            votes.append(-1)
+            continue
+        j = bound[hit[k]]
+        n = np.cross(v1[j] - v0[j], v2[j] - v0[j])
+        votes.append(int(mat_medium[tri_mat_orig[j]]) if np.dot(n, dirs[k]) > 0 else -1)
+    return max(set(votes), key=votes.count)
 
 
 def prepare(scene: Scene) -> Prepared:
@@ -270,12 +328,14 @@ def prepare(scene: Scene) -> Prepared:
         pts.append(np.abs(light_geo[:, :3]).max())
     scene_scale = max(1.0, float(max(pts)))
     ior_tab = scene.ior_tables.values if len(scene.ior_tables) else np.ones((1, C.N_LAMBDA), np.float32)
+    mat_medium, med_tab, med_g = media_tables(scene, spec)
+    cam_medium = camera_medium(scene, v0, v1, v2, tri_mat_orig, mat_medium) if med_tab.shape[0] else -1
     return Prepared(scene, bvh, tri_mat, tri_emitter, mat_model, mat_p, mat_ra, mat_rb, mat_eta, mat_kappa,
                     mat_ior, np.ascontiguousarray(ior_tab, np.float32), mat_emis, mat_emis_scale,
                     mat_emis_two, np.ascontiguousarray(spec, np.float32), cmf, light_kind, light_geo, light_spec,
                     light_scale, light_two, light_vis, cdf, np.ascontiguousarray(prob), emit_tri, emit_light,
                     world_spec, world_scale, camera_vector(scene.camera), scene_scale,
-                    time.perf_counter() - t0)
+                    time.perf_counter() - t0, mat_medium, med_tab, med_g, cam_medium)
 
 
 def _rows(prep, film, y0, y1, s0, s1):
@@ -290,7 +350,8 @@ def _rows(prep, film, y0, y1, s0, s1):
                 prep.ior_tab, prep.mat_emis, prep.mat_emis_scale, prep.mat_emis_two, prep.spec, prep.cmf,
                 prep.light_kind, prep.light_geo, prep.light_spec, prep.light_scale, prep.light_two_sided,
                 prep.light_visible, prep.emit_cdf, prep.emit_prob, prep.emit_tri, prep.emit_light,
-                int(prep.world_spec), float(prep.world_scale), film.spectral)
+                int(prep.world_spec), float(prep.world_scale), film.spectral,
+                prep.mat_medium, prep.med_tab, prep.med_g, int(prep.cam_medium))
 
 
 def thread_count(threads=None):

@@ -21,7 +21,8 @@ from .. import constants as C
 from ..jit import inline, kernel
 from ..bsdfs.dispatch import bsdf_eval, bsdf_flags, bsdf_sample
 from ..bsdfs.params import BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE, BSDF_GLOSSY
-from .bvh import STACK_SIZE, closest_hit, occluded
+from . import media
+from .bvh import STACK_SIZE, closest_hit
 from .rng import path_key, uniform
 
 NW = C.N_WAVELENGTHS
@@ -188,7 +189,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 spec, cmf,
                 light_kind, light_geo, light_spec, light_scale, light_two_sided, light_visible,
                 emit_cdf, emit_prob, emit_tri, emit_light,
-                world_spec, world_scale, spectral):
+                world_spec, world_scale, spectral, mat_medium, med_tab, med_g, cam_medium):
     """Add samples s0 .. s1-1 of every pixel of rows y0 .. y1-1 to ``film`` (H, W, 5) float64.
 
     A serial kernel that releases the GIL: the renderer runs blocks of rows on a pool of
@@ -206,6 +207,11 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
     light_geo: float64 (L, 13): centre(3), half-axis u(3), half-axis v(3), unit normal(3), area.
     emit_*: the emitter distribution over emissive triangles (emit_tri ≥ 0, leaf order)
     and analytic lights (emit_light ≥ 0); emit_cdf has E + 1 entries.
+
+    Media (core/kernels/media.py): mat_medium (K,) interior medium of each material (-1
+    none); med_tab (2 M, N_LAMBDA) σa, σs rows per medium in 1/m, (0, N_LAMBDA) when the
+    scene has neither media nor null surfaces (then nothing of this runs); med_g (M,) HG
+    anisotropy; cam_medium the camera's medium.
     """
     height = film.shape[0]
     width = film.shape[1]
@@ -214,6 +220,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
     n_emit = emit_prob.shape[0]
     n_lights = light_kind.shape[0]
     eps = EPS_REL * scene_scale
+    has_media = med_tab.shape[0] > 0
     for y in range(y0, y1):
         stack = np.empty(STACK_SIZE, np.int32)
         lam = np.empty(NW)
@@ -225,6 +232,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
         eta = np.empty(NW)
         kappa = np.empty(NW)
         fv = np.empty(NW)
+        mw = np.empty((media.MW_ROWS, NW))
         for x in range(width):
             pix = y * width + x
             for s in range(s0, s1):
@@ -256,9 +264,18 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 prev_pdf = 0.0
                 prev_delta = True  # the camera ray: emitters seen directly get full weight
                 dispersed = False
+                medium = cam_medium
+                outer = -1
+                t_lo = 0.0  # the ray goes on from here after passing null surfaces
+                if has_media:
+                    media.start_path(med_tab, medium, lam, mw)
                 while True:
-                    t, prim, bu, bv = closest_hit(ox, oy, oz, dx, dy, dz, 0.0, np.inf,
+                    t, prim, bu, bv = closest_hit(ox, oy, oz, dx, dy, dz, t_lo, np.inf,
                                                   bmin, bmax, child, count, axis, v0, e1, e2, stack)
+                    t_end = t
+                    if medium >= 0:
+                        t_end = min(t, t_lo + media.free_flight(medium, mw, uniform(key, dim)))
+                        dim += 1
                     # analytic area lights: hit for their emission, never occluders (as in Cycles)
                     for li in range(n_lights):
                         if depth == 0 and light_visible[li] == 0:
@@ -268,8 +285,8 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                             light_geo[li, 3], light_geo[li, 4], light_geo[li, 5],
                             light_geo[li, 6], light_geo[li, 7], light_geo[li, 8],
                             light_geo[li, 9], light_geo[li, 10], light_geo[li, 11],
-                            ox, oy, oz, dx, dy, dz, t)
-                        if tl == np.inf:
+                            ox, oy, oz, dx, dy, dz, t_end)
+                        if tl == np.inf or tl <= t_lo:
                             continue
                         if cl > 0.0 and light_two_sided[li] == 0:
                             continue
@@ -278,8 +295,52 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                             e_idx = n_emit - n_lights + li
                             pl = emit_prob[e_idx] * tl * tl / (light_geo[li, 12] * abs(cl))
                             w = power_heuristic(prev_pdf, pl)
+                        media.arrival(medium, mw, tl - t_lo)
                         for i in range(NW):
-                            rad[i] += beta[i] * w * light_scale[li] * lookup(spec, light_spec[li], lam[i])
+                            rad[i] += beta[i] * w * light_scale[li] * lookup(spec, light_spec[li], lam[i]) \
+                                * mw[media.MW_TR, i]
+                    if medium >= 0:
+                        if t_end < t:  # a scattering event in the medium
+                            media.segment(medium, mw, beta, t_end - t_lo, True)
+                            if depth > max_depth:
+                                break
+                            px = ox + t_end * dx
+                            py = oy + t_end * dy
+                            pz = oz + t_end * dz
+                            g = med_g[medium]
+                            if n_emit > 0:
+                                ei = media.pick(emit_cdf, n_emit, uniform(key, dim))
+                                qx, qy, qz, lnx, lny, lnz, l_area, l_two, l_row, l_scale, ok = _emitter_sample(
+                                    ei, uniform(key, dim + 1), uniform(key, dim + 2), emit_tri, emit_light, v0, e1,
+                                    e2, tri_mat, mat_emis, mat_emis_scale, mat_emis_two, light_kind, light_geo,
+                                    light_spec, light_scale, light_two_sided)
+                                if ok:
+                                    media.nee(px, py, pz, dx, dy, dz, g, qx, qy, qz, lnx, lny, lnz, l_area, l_two,
+                                              l_row, l_scale, emit_prob[ei], medium, outer, lam, beta, rad, spec, mw,
+                                              bmin, bmax, child, count, axis, v0, e1, e2, tri_mat, mat_model,
+                                              mat_medium, med_tab, eps, stack)
+                            dim += 3
+                            dx, dy, dz, prev_pdf = media.hg_sample(g, dx, dy, dz, uniform(key, dim),
+                                                                   uniform(key, dim + 1))
+                            dim += 2
+                            prev_delta = False
+                            ox = px
+                            oy = py
+                            oz = pz
+                            t_lo = 0.0
+                            depth += 1
+                            q = media.live_max(beta, pdf_lam)
+                            if q <= 0.0:
+                                break
+                            if depth >= rr_depth:
+                                if q < 1.0:
+                                    if uniform(key, dim) >= q:
+                                        break
+                                    for i in range(NW):
+                                        beta[i] /= q
+                                dim += 1
+                            continue
+                        media.segment(medium, mw, beta, t - t_lo, False)
                     if prim < 0:
                         if world_spec >= 0:
                             for i in range(NW):
@@ -302,6 +363,10 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     nz /= nlen
                     cos_i = -(nx * dx + ny * dy + nz * dz)
                     m = tri_mat[prim]
+                    if mat_model[m] == C.MAT_NULL:  # only bounds a medium: go straight on
+                        medium, outer = media.cross(medium, outer, mat_medium[m], cos_i > 0.0, med_tab, lam, mw)
+                        t_lo = t + eps
+                        continue
                     # emission: both sides (Blender's Emission shader) or the front side only
                     if mat_emis[m] >= 0 and (cos_i > 0.0 or (cos_i < 0.0 and mat_emis_two[m] != 0)):
                         w = 1.0
@@ -384,9 +449,11 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                                 if fmax > 0.0:
                                     pl = emit_prob[ei] * d2 / (l_area * cos_y)
                                     side = 1.0 if cos_n > 0.0 else -1.0
-                                    if not occluded(px + side * eps * nx, py + side * eps * ny, pz + side * eps * nz,
-                                                    wx, wy, wz, 0.0, dist * (1.0 - 1e-4) - eps,
-                                                    bmin, bmax, child, count, v0, e1, e2, stack):
+                                    if media.unoccluded(has_media, px + side * eps * nx, py + side * eps * ny,
+                                                        pz + side * eps * nz, wx, wy, wz, dist * (1.0 - 1e-4) - eps,
+                                                        medium, outer, mat_medium[tri_mat[prim]], cos_i, cos_n, lam,
+                                                        mw, fv, bmin, bmax, child, count, axis, v0, e1, e2, tri_mat,
+                                                        mat_model, mat_medium, med_tab, eps, stack):
                                         w = power_heuristic(pl, pb)
                                         g = mix_w * w * abs(cos_n) * l_scale / pl
                                         for i in range(NW):
@@ -400,7 +467,10 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     if flags == 0:
                         break
                     if (flags & BSDF_DISPERSIVE) != 0 and not dispersed:
-                        terminate_secondary(pdf_lam)
+                        if has_media:
+                            media.drop_companions(beta, mw)
+                        else:
+                            terminate_secondary(pdf_lam)
                         dispersed = True
                     q = 0.0
                     for i in range(NW):
@@ -417,6 +487,10 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     ox = px + side * eps * nx
                     oy = py + side * eps * ny
                     oz = pz + side * eps * nz
+                    t_lo = 0.0
+                    if has_media and (wiz > 0.0) != (woz > 0.0):  # transmitted: into or out of the interior
+                        medium, outer = media.cross(medium, outer, mat_medium[tri_mat[prim]], wiz < 0.0, med_tab,
+                                                    lam, mw)
                     depth += 1
                     if q <= 0.0:
                         break

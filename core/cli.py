@@ -89,6 +89,9 @@ def _parser():
     r.add_argument("--max-depth", type=_non_negative_int,
                    help="maximum number of bounces, as Cycles' Max Bounces (0: direct light only; default 64)")
     r.add_argument("--seed", type=_non_negative_int, help="random seed")
+    r.add_argument("--sampler", choices=("independent", "halton", "hammersley"),
+                   help="sample generator: independent random numbers, or Owen-scrambled Halton or "
+                        "Hammersley points per pixel (default: the scene's, independent)")
     r.add_argument("--threads", type=_non_negative_int, default=0, help="worker threads (0: all cores)")
     r.add_argument("--out", help="output OpenEXR file (default: cornell.exr or <scene>.exr); "
                                  "the sRGB PNG preview is written beside it")
@@ -174,6 +177,9 @@ def _render(args):
         st.max_depth = args.max_depth
     if args.seed is not None:
         st.seed = args.seed
+    if args.sampler:
+        st.sampler = {"independent": C.SAMPLER_INDEPENDENT, "halton": C.SAMPLER_HALTON,
+                      "hammersley": C.SAMPLER_HAMMERSLEY}[args.sampler]
     validate(scene)
     out = Path(args.out or default_out)
     if out.suffix.lower() != ".exr":

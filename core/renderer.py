@@ -290,7 +290,7 @@ def _rows(prep, film, y0, y1, s0, s1):
                 prep.ior_tab, prep.mat_emis, prep.mat_emis_scale, prep.mat_emis_two, prep.spec, prep.cmf,
                 prep.light_kind, prep.light_geo, prep.light_spec, prep.light_scale, prep.light_two_sided,
                 prep.light_visible, prep.emit_cdf, prep.emit_prob, prep.emit_tri, prep.emit_light,
-                int(prep.world_spec), float(prep.world_scale), film.spectral)
+                int(prep.world_spec), float(prep.world_scale), film.spectral, int(st.sampler), int(st.spp))
 
 
 def thread_count(threads=None):

@@ -390,6 +390,9 @@ def validate(scene: Scene) -> Scene:
     _check_number("settings.max_depth", s.max_depth, lo=0, hi=1024, integer=True)
     _check_number("settings.rr_depth", s.rr_depth, lo=1, hi=1024, integer=True)
     _check_number("settings.seed", s.seed, lo=0, hi=2**32 - 1, integer=True)
+    _check_number("settings.sampler", s.sampler, integer=True)
+    if s.sampler not in (C.SAMPLER_INDEPENDENT, C.SAMPLER_HALTON, C.SAMPLER_HAMMERSLEY):
+        _fail("settings.sampler", f"unknown sampler {s.sampler} (0 independent, 1 Halton, 2 Hammersley)")
     return scene
 
 

@@ -18,10 +18,12 @@ import math
 
 import numpy as np
 from .. import constants as C
-from ..jit import inline, kernel
+from ..jit import function, inline, kernel
 from ..bsdfs.dispatch import bsdf_eval, bsdf_flags, bsdf_sample
 from ..bsdfs.params import BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE, BSDF_GLOSSY
 from .bvh import STACK_SIZE, closest_hit, occluded
+from ..sampling.qmc import pixel_seed, qmc_sample
+from ..sampling.tags import RANDOMIZE_OWEN, SAMPLER_INDEPENDENT
 from .rng import path_key, uniform
 
 NW = C.N_WAVELENGTHS
@@ -50,6 +52,24 @@ CAM_HALF_H = 13
 CAM_OFF_X = 14
 CAM_OFF_Y = 15
 CAM_SIZE = 16
+
+
+@function
+def qmc_dimension(sampler, index, dim, pseed, n):
+    """Dimension ``dim`` of sample ``index`` of an Owen-scrambled Halton or Hammersley set
+    (of ``n`` points) randomised per pixel by ``pseed``. Compiled as a function of its own:
+    inlined at every call site of the path kernel it would multiply its compile time."""
+    return qmc_sample(sampler, RANDOMIZE_OWEN, index, dim, pseed, n)
+
+
+@inline
+def rnd(sampler, key, pseed, index, dim, n):
+    """The path's sample in dimension ``dim``: the counter RNG for the independent sampler,
+    else the low-discrepancy point (whose dimensions past the prime table fall back to a
+    hash of (pixel seed, index, dimension), as pbrt's samplers do)."""
+    if sampler == SAMPLER_INDEPENDENT:
+        return uniform(key, dim)
+    return qmc_dimension(sampler, index, dim, pseed, n)
 
 
 @inline
@@ -188,7 +208,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 spec, cmf,
                 light_kind, light_geo, light_spec, light_scale, light_two_sided, light_visible,
                 emit_cdf, emit_prob, emit_tri, emit_light,
-                world_spec, world_scale, spectral):
+                world_spec, world_scale, spectral, sampler, n_total):
     """Add samples s0 .. s1-1 of every pixel of rows y0 .. y1-1 to ``film`` (H, W, 5) float64.
 
     A serial kernel that releases the GIL: the renderer runs blocks of rows on a pool of
@@ -199,6 +219,9 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
     Materials: mat_model (MAT_* tags) and mat_p (K, 16) rows for core.bsdfs; spectral
     inputs ra/rb (rows of ``spec``, -1: 0 / 1), η (row of ``ior_tab`` or the constant
     mat_ior) and κ (row of ``ior_tab`` or 0). MAT_MIX/MAT_ADD pick one component per hit.
+
+    sampler: SAMPLER_* tag (independent, Halton, Hammersley); n_total: the render's
+    total samples per pixel (Hammersley's n).
 
     spectral: (H, W, B) float64 sums of the spectral radiance averaged over B equal bins
     of [LMIN, LMAX] (W/(m² sr nm)); pass a (1, 1, 0) array to skip it.
@@ -227,9 +250,10 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
         fv = np.empty(NW)
         for x in range(width):
             pix = y * width + x
+            pseed = pixel_seed(seed, pix)
             for s in range(s0, s1):
                 key = path_key(seed, pix, s)
-                u0 = uniform(key, 0)
+                u0 = rnd(sampler, key, pseed, s, 0, n_total)
                 for i in range(NW):
                     up = u0 + i / NW
                     if up >= 1.0:
@@ -239,8 +263,8 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     beta[i] = 1.0
                     rad[i] = 0.0
                 # camera ray
-                sx = ((x + uniform(key, 1)) / width * 2.0 - 1.0) * cam[CAM_HALF_W] + cam[CAM_OFF_X]
-                sy = (1.0 - (y + uniform(key, 2)) / height * 2.0) * cam[CAM_HALF_H] + cam[CAM_OFF_Y]
+                sx = ((x + rnd(sampler, key, pseed, s, 1, n_total)) / width * 2.0 - 1.0) * cam[CAM_HALF_W] + cam[CAM_OFF_X]
+                sy = (1.0 - (y + rnd(sampler, key, pseed, s, 2, n_total)) / height * 2.0) * cam[CAM_HALF_H] + cam[CAM_OFF_Y]
                 dx = cam[0] * sx + cam[1] * sy - cam[2]
                 dy = cam[3] * sx + cam[4] * sy - cam[5]
                 dz = cam[6] * sx + cam[7] * sy - cam[8]
@@ -317,10 +341,10 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     for _ in range(C.MIX_DEPTH):
                         mm = mat_model[m]
                         if mm == C.MAT_MIX:
-                            m = int(mat_p[m, 1]) if uniform(key, dim) < mat_p[m, 0] else int(mat_p[m, 2])
+                            m = int(mat_p[m, 1]) if rnd(sampler, key, pseed, s, dim, n_total) < mat_p[m, 0] else int(mat_p[m, 2])
                             dim += 1
                         elif mm == C.MAT_ADD:
-                            m = int(mat_p[m, 1]) if uniform(key, dim) < 0.5 else int(mat_p[m, 2])
+                            m = int(mat_p[m, 1]) if rnd(sampler, key, pseed, s, dim, n_total) < 0.5 else int(mat_p[m, 2])
                             mix_w *= 2.0
                             dim += 1
                         else:
@@ -347,7 +371,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     flags_m = bsdf_flags(model, pm)
                     # next-event estimation (skipped for purely specular materials)
                     if n_emit > 0 and (flags_m & (BSDF_DIFFUSE | BSDF_GLOSSY)) != 0:
-                        ue = uniform(key, dim)
+                        ue = rnd(sampler, key, pseed, s, dim, n_total)
                         lo = 0
                         hi = n_emit - 1
                         while lo < hi:
@@ -358,7 +382,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                                 hi = mid
                         ei = lo
                         qx, qy, qz, lnx, lny, lnz, l_area, l_two, l_row, l_scale, ok = _emitter_sample(
-                            ei, uniform(key, dim + 1), uniform(key, dim + 2), emit_tri, emit_light, v0, e1, e2,
+                            ei, rnd(sampler, key, pseed, s, dim + 1, n_total), rnd(sampler, key, pseed, s, dim + 2, n_total), emit_tri, emit_light, v0, e1, e2,
                             tri_mat, mat_emis, mat_emis_scale, mat_emis_two, light_kind, light_geo, light_spec,
                             light_scale, light_two_sided)
                         wx = qx - px
@@ -394,8 +418,8 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     dim += 3
                     # BSDF sampling
                     wix, wiy, wiz, pdf, flags = bsdf_sample(model, pm, ra, rb, eta, kappa, wox, woy, woz,
-                                                            uniform(key, dim), uniform(key, dim + 1),
-                                                            uniform(key, dim + 2), fv)
+                                                            rnd(sampler, key, pseed, s, dim, n_total), rnd(sampler, key, pseed, s, dim + 1, n_total),
+                                                            rnd(sampler, key, pseed, s, dim + 2, n_total), fv)
                     dim += 3
                     if flags == 0:
                         break
@@ -422,7 +446,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                         break
                     if depth >= rr_depth:
                         if q < 1.0:
-                            if uniform(key, dim) >= q:
+                            if rnd(sampler, key, pseed, s, dim, n_total) >= q:
                                 break
                             for i in range(NW):
                                 beta[i] /= q

@@ -19,7 +19,7 @@ from .spectra.uplift import (emission_from_rgb, emission_from_samples, emission_
 from .units import EMITTER_UNITS, area_light_luminance, emission_luminance, emitter_luminance
 from .compare import compare_images, delta_e_image, side_by_side
 from .lightunits import (LIGHT_UNITS, light_emission_coeffs, light_photometric, light_spectrum_names,
-                         point_light_intensity, spot_solid_angle, sun_illuminance)
+                         point_light_intensity, scene_white_xy, spot_solid_angle, sun_illuminance)
 # materials: BSDF parameter rows, IOR tables and named spectral presets (the add-on's material export)
 from .bsdfs.params import (blinn_phong_params, conductor_params, dielectric_params, ggx_conductor_params,
                            ggx_dielectric_params, lafortune_params, lambert_params, make_params, mirror_params,
@@ -46,5 +46,5 @@ __all__ = [
     "reflectance_preset", "metal_preset", "glass_preset", "tabulate_reflectance",
     "compare_images", "delta_e_image", "side_by_side",
     "LIGHT_UNITS", "light_photometric", "light_emission_coeffs", "light_spectrum_names",
-    "point_light_intensity", "spot_solid_angle", "sun_illuminance",
+    "point_light_intensity", "spot_solid_angle", "sun_illuminance", "scene_white_xy",
 ]

@@ -183,3 +183,27 @@ def light_emission_coeffs(source, *, rgb=(1.0, 1.0, 1.0), temperature=6500.0, na
     else:
         raise ValueError(f"unknown light spectrum source {source!r}; use one of {', '.join(SPECTRUM_SOURCES)}")
     return emission_from_samples(g, s / float(np.max(s)), n_coeffs)
+
+
+def scene_white_xy(scene):
+    """CIE 1931 xy chromaticity of the brightest emitter of ``scene`` (by luminance), or None without one.
+
+    For white-balancing a render to its main light (develop(white_balance=...)).
+    """
+    from .spectra.fit import emission_XYZ
+
+    emitters = [(li.luminance if li.kind in (C.LIGHT_RECT, C.LIGHT_ELLIPSE) else
+                 max(getattr(li, "intensity", 0.0), getattr(li, "illuminance", 0.0)), li.spectrum)
+                for li in scene.lights]
+    emitters += [(m.emission_luminance, m.emission) for m in scene.materials if m.emission >= 0]
+    if scene.world.background >= 0:
+        emitters.append((scene.world.luminance, scene.world.background))
+    emitters = [e for e in emitters if e[0] > 0.0 and e[1] >= 0]
+    if not emitters:
+        return None
+    _, s = max(emitters, key=lambda e: e[0])
+    XYZ = emission_XYZ(scene.spectra.coeffs[s])
+    total = float(np.sum(XYZ))
+    if not total > 0.0:
+        return None
+    return (float(XYZ[0]) / total, float(XYZ[1]) / total)

@@ -1,14 +1,14 @@
 """Property groups, one per datablock, composed under the ``spectral_gi`` namespace."""
-from . import material, scene
+from . import light, scene
 
-classes = scene.classes + material.classes
+classes = scene.classes + light.classes
 
 
 def register_extra():
     scene.register_properties()
-    material.register_properties()
+    light.register_properties()
 
 
 def unregister_extra():
-    material.unregister_properties()
+    light.unregister_properties()
     scene.unregister_properties()

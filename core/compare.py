@@ -143,9 +143,9 @@ def legend_bar(width, vmax=DELTA_E_VMAX, ticks=None):
     img = np.zeros((h, width, 3))
     ramp = false_colour(np.linspace(0.0, vmax, width), vmax)
     img[2 * scale:2 * scale + bar_h] = ramp[None, :, :]
-    if ticks is None:
-        step = vmax / 5.0
-        ticks = [step * i for i in range(6)]
+    if ticks is None:  # as many as fit without their numbers touching (at most 6)
+        n = int(min(6, max(2, width // (14 * scale))))
+        ticks = [vmax * i / (n - 1) for i in range(n)]
     y_tick = 2 * scale + bar_h
     for i, t in enumerate(ticks):
         x = int(round(t / vmax * (width - 1)))

@@ -72,7 +72,7 @@ def cycles_settings(scene, samples, max_bounces, pixel_filter, filter_width, see
 def render_cycles_rgb(scene, samples, max_bounces, pixel_filter="BLACKMAN_HARRIS", filter_width=1.5, seed=0,
                       workdir=None):
     """Render ``scene`` with Cycles at matched settings; its scene-linear RGB as (H, W, 3), rows top-down."""
-    from ..core import read_exr
+    from ...core import read_exr
 
     import numpy as np
 
@@ -107,7 +107,7 @@ def render_cycles_rgb(scene, samples, max_bounces, pixel_filter="BLACKMAN_HARRIS
 
 def render_ours(scene, depsgraph, spp=None, progress=None, status=None, should_cancel=None):
     """Export and render with Spectral GI on the calling thread: (core scene, film, stats, export warning)."""
-    from ..core import render
+    from ...core import render
     from ..export import export_scene
 
     exported = export_scene(depsgraph, scene, should_cancel=should_cancel)
@@ -159,7 +159,7 @@ def compare_with_cycles(scene, depsgraph, out_dir=None, json_path=None, spp=None
 
     ``ours``: an already rendered (core scene, film) to compare instead of rendering again.
     """
-    from ..core import compare_images, delta_e_image, side_by_side
+    from ...core import compare_images, delta_e_image, side_by_side
     from ..imageio import write_rgb
 
     say = log or (lambda text: None)

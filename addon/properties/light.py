@@ -49,22 +49,29 @@ def _search(source):
     return search
 
 
+def _tag(self, context):
+    """Custom properties do not tag their ID by themselves: re-evaluate the light so renders see the change."""
+    self.id_data.update_tag()
+
+
 class SpectralGILightSettings(bpy.types.PropertyGroup):
     """How the Spectral GI renderer reads this light's brightness and colour."""
 
-    unit: EnumProperty(name="Unit", items=UNITS, default="BLENDER",
+    unit: EnumProperty(update=_tag, name="Unit", items=UNITS, default="BLENDER",
                        description="What the light's brightness is given in")
     value: FloatProperty(
+        update=_tag,
         name="Value", default=1000.0, min=0.0, soft_max=1e6, precision=2,
         description="The light's brightness in the chosen unit (lm, cd, lx or cd/m²)")
-    spectrum: EnumProperty(name="Spectrum", items=SPECTRA, default="RGB",
+    spectrum: EnumProperty(update=_tag, name="Spectrum", items=SPECTRA, default="RGB",
                            description="Where the light's emission spectrum comes from")
     temperature: FloatProperty(
+        update=_tag,
         name="Temperature", default=3000.0, min=100.0, max=100000.0, soft_min=1000.0, soft_max=20000.0,
         description="Blackbody temperature in kelvin (K)")
-    illuminant: StringProperty(name="Illuminant", default="D65", search=_search("illuminant"),
+    illuminant: StringProperty(update=_tag, name="Illuminant", default="D65", search=_search("illuminant"),
                                description="Name of a CIE standard illuminant (A, D65, FL11, …)")
-    led: StringProperty(name="LED", default="LED-B3", search=_search("led"),
+    led: StringProperty(update=_tag, name="LED", default="LED-B3", search=_search("led"),
                         description="Name of a CIE LED illuminant (LED-B1 … LED-V2)")
 
 

@@ -574,14 +574,18 @@ def test_every_mapped_shader_renders(ext, bpy):
         b.shader("T", "ShaderNodeBsdfTransparent"),
         b.principled("P", (0.2, 0.4, 0.6)),
         mix_of(bpy, "Mix", 0.3, ("ShaderNodeBsdfDiffuse", {}), ("ShaderNodeBsdfGlossy", {})),
-        mix_of(bpy, "Add", None, ("ShaderNodeBsdfDiffuse", {}), ("ShaderNodeEmission", {"Strength": 0.5}),
-               add=True),
+        mix_of(bpy, "Add", None, ("ShaderNodeBsdfDiffuse", {}), ("ShaderNodeBsdfGlossy", {}), add=True),
+        mix_of(bpy, "Glow", 0.5, ("ShaderNodeBsdfDiffuse", {}), ("ShaderNodeEmission", {"Strength": 0.5})),
     ]
     metal = b.principled("PM", gold_rgb())
     principled_node(metal).inputs["Metallic"].default_value = 0.7
     principled_node(metal).inputs["Transmission Weight"].default_value = 0.5
     principled_node(metal).inputs["Alpha"].default_value = 0.8
     shaders.append(metal)
+    polished = b.principled("Polished", (0.9, 0.9, 0.9))
+    principled_node(polished).inputs["Metallic"].default_value = 1.0
+    principled_node(polished).inputs["Roughness"].default_value = 0.0
+    shaders.append(polished)
     for model in OVERRIDES:
         mat = bpy.data.materials.new(f"O{model}")
         mat.spectral_gi.model = model

@@ -16,7 +16,9 @@ Node → model (α = roughness², as Cycles):
   diffuse roughness are listed in the warning with the substitute used.
 * Diffuse → LAMBERT; Glossy → GGX conductor with the Fresnel of a perfect conductor
   (η = κ = 0: reflectance 1 at every angle) tinted by its colour, MIRROR at roughness 0;
-  Glass → (GGX_)DIELECTRIC, colour tinting reflection and transmission; Refraction →
+  Metallic → GGX conductor (F82: η, κ fitted to base colour and edge tint; physical
+  conductor: its RGB η, κ interpolated over wavelength); Glass → (GGX_)DIELECTRIC,
+  colour tinting reflection and transmission; Refraction →
   the same without reflection (noted); Transparent → a dielectric of IOR 1;
   Emission → emission; Mix / Add Shader → MAT_MIX / MAT_ADD.
 
@@ -27,8 +29,8 @@ from .convert import (combine_emission, glossy_alpha, is_smooth, mix_first_weigh
                       specular_level_ior)
 from .nodes import active_output, constant_input, ignored_links, input_value, shader_inputs, surface_node
 
-SUPPORTED_SURFACES = ("BSDF_PRINCIPLED", "BSDF_DIFFUSE", "BSDF_GLOSSY", "BSDF_GLASS", "BSDF_REFRACTION",
-                      "BSDF_TRANSPARENT", "EMISSION", "MIX_SHADER", "ADD_SHADER")
+SUPPORTED_SURFACES = ("BSDF_PRINCIPLED", "BSDF_DIFFUSE", "BSDF_GLOSSY", "BSDF_METALLIC", "BSDF_GLASS",
+                      "BSDF_REFRACTION", "BSDF_TRANSPARENT", "EMISSION", "MIX_SHADER", "ADD_SHADER")
 COLOUR_INPUTS = ("Base Color", "Color")
 WHITE = (1.0, 1.0, 1.0)
 BLACK = (0.0, 0.0, 0.0)
@@ -299,6 +301,39 @@ def _glossy(ctx, owner, node):
     return conductor_leaf(ctx, name, ax, ay, _perfect_conductor(ctx), -1, reflectance=_refl(ctx, owner, colour))
 
 
+RGB_WAVELENGTHS_NM = (465.0, 532.0, 630.0)  # where a per-channel (B, G, R) index is placed on the spectrum
+
+
+def _metallic(ctx, owner, node):
+    """Metallic BSDF: F82 (base colour, edge tint) → fitted η, κ; physical conductor → its RGB η, κ
+    interpolated over the spectrum (B at 465, G at 532, R at 630 nm, held beyond)."""
+    import numpy as np
+
+    from ...core import wavelength_grid
+
+    ax, ay = glossy_alpha(input_value(ctx, owner, node, ("Roughness",), "value"),
+                          input_value(ctx, owner, node, ("Anisotropy",), "value") or 0.0)
+    ignored_links(ctx, owner, node, ("Normal", "Tangent"))
+    if (input_value(ctx, owner, node, ("Thin Film Thickness",), "value") or 0.0) > 0.0:
+        ctx.skip("shader inputs", f"{owner}/{node.name}: thin film (ignored)")
+    name = f"{owner}: {node.name}"
+    if getattr(node, "fresnel_type", "F82") == "PHYSICAL_CONDUCTOR":
+        eta_rgb = [max(float(v), 0.0) for v in node.inputs["IOR"].default_value]
+        kappa_rgb = [max(float(v), 0.0) for v in node.inputs["Extinction"].default_value]
+        for sock in ("IOR", "Extinction"):
+            if node.inputs[sock].is_linked:
+                ctx.note(f"{owner}: '{node.name}' input '{sock}' is linked, used its unlinked value")
+        key = f"RGB conductor η={tuple(eta_rgb)!r} κ={tuple(kappa_rgb)!r}"
+        wl = wavelength_grid()
+        eta = ctx.ior_table(key + " η", np.interp(wl, RGB_WAVELENGTHS_NM, eta_rgb[::-1]))
+        kappa = ctx.ior_table(key + " κ", np.interp(wl, RGB_WAVELENGTHS_NM, kappa_rgb[::-1]))
+        ctx.note(f"{owner}: '{node.name}' RGB η, κ interpolated over wavelength")
+    else:
+        eta, kappa = _conductor_tables(ctx, input_value(ctx, owner, node, ("Base Color",), "colour"),
+                                       input_value(ctx, owner, node, ("Edge Tint",), "colour"))
+    return conductor_leaf(ctx, name, ax, ay, eta, kappa)
+
+
 def _glass(ctx, owner, node, reflect=True):
     colour = input_value(ctx, owner, node, ("Color",), "colour")
     r = input_value(ctx, owner, node, ("Roughness",), "value")
@@ -353,6 +388,8 @@ def _shader(ctx, owner, node, depth=0):
                      reflectance=_refl(ctx, owner, colour)), []
     if kind == "BSDF_GLOSSY":
         return _glossy(ctx, owner, node), []
+    if kind == "BSDF_METALLIC":
+        return _metallic(ctx, owner, node), []
     if kind == "BSDF_GLASS":
         return _glass(ctx, owner, node), []
     if kind == "BSDF_REFRACTION":

@@ -254,6 +254,35 @@ def test_principled_metal_reproduces_its_base_colour(ext, bpy):
 
 
 @blender
+def test_metallic_bsdf(ext, bpy):
+    b = ext.build
+    minimal(b)
+    C = ext.core.constants
+    phys = b.shader("Phys", "ShaderNodeBsdfMetallic", Roughness=0.5)
+    node = next(n for n in phys.node_tree.nodes if n.type == "BSDF_METALLIC")
+    node.fresnel_type = "PHYSICAL_CONDUCTOR"  # (its IOR and Extinction sockets are available only now)
+    node.inputs["IOR"].default_value = (0.2, 0.5, 1.4)
+    node.inputs["Extinction"].default_value = (3.5, 2.4, 1.8)
+    b.plane("Phys", material=phys)
+    b.plane("F82", material=b.shader("F82", "ShaderNodeBsdfMetallic", Roughness=0.0,
+                                     **{"Base Color": (*gold_rgb(), 1.0)}))
+    res = b.export(ext)
+    s = res.scene
+    m = material_of(s, "Phys")
+    assert m.model == C.MAT_GGX_CONDUCTOR and (m.params[1], m.params[2]) == pytest.approx((0.25, 0.25))
+    eta, kappa = s.ior_tables.values[m.eta_table], s.ior_tables.values[m.kappa_table]
+    for nm, e, k in ((630, 0.2, 3.5), (532, 0.5, 2.4), (465, 1.4, 1.8), (360, 1.4, 1.8), (830, 0.2, 3.5)):
+        assert (eta[nm - 360], kappa[nm - 360]) == pytest.approx((e, k), rel=1e-6)
+    assert "Phys" in res.warning
+    m = material_of(s, "F82")
+    assert m.model == C.MAT_CONDUCTOR
+    eta = s.ior_tables.values[m.eta_table].astype(np.float64)
+    kappa = s.ior_tables.values[m.kappa_table].astype(np.float64)
+    r0 = ((eta - 1) ** 2 + kappa ** 2) / ((eta + 1) ** 2 + kappa ** 2)
+    np.testing.assert_allclose(r0, np.clip(uplift(gold_rgb()), 0.0, 0.9999), atol=2e-3)
+
+
+@blender
 def test_principled_dielectric_is_plastic(ext, bpy):
     b = ext.build
     minimal(b)

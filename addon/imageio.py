@@ -51,3 +51,73 @@ def show_in_image_editors(img, window_manager):
                 area.tag_redraw()
                 n += 1
     return n
+
+
+# ----------------------------------------------------------------------------- render passes
+
+# Blender pass name → (channels, channel ids, type, view layer property, attribute of core's Developed)
+PASS_SPECS = (
+    ("XYZ", 3, "XYZ", "COLOR", "use_pass_xyz", "XYZ"),
+    ("Luminance", 1, "Y", "VALUE", "use_pass_luminance", "luminance"),
+    ("Lab", 3, "LAB", "COLOR", "use_pass_lab", "Lab"),
+    ("Variance", 1, "V", "VALUE", "use_pass_variance", "variance"),
+    ("Albedo", 3, "RGB", "COLOR", "use_pass_albedo", "albedo"),
+    ("Normal", 3, "XYZ", "VECTOR", "use_pass_normal", "normal"),
+    ("Depth", 1, "Z", "VALUE", "use_pass_depth", "depth"),
+)
+NO_HIT_DEPTH = 1e10  # metres written for camera rays that hit nothing (Blender's Depth pass convention)
+
+
+def enabled_passes(view_layer):
+    """[(name, channels, chan_id, type)] of the Spectral GI passes enabled on ``view_layer`` (besides Combined)."""
+    settings = getattr(view_layer, "spectral_gi", None) if view_layer is not None else None
+    if settings is None:
+        return []
+    return [(name, n, chan, kind) for name, n, chan, kind, prop, _attr in PASS_SPECS if getattr(settings, prop, False)]
+
+
+def pass_arrays(developed, names, alpha=None):
+    """{pass name: (H, W, C) float32 array, rows top-to-bottom} for Combined and the passes in ``names``.
+
+    Combined is linear Rec.709 with ``alpha`` (1 if None). A pass whose data the core's
+    development does not provide (an older core) is filled with zeros and listed in the
+    second return value.
+    """
+    import numpy as np
+
+    rgb = np.asarray(developed.rgb)
+    h, w = rgb.shape[:2]
+    out = {}
+    combined = np.empty((h, w, 4), dtype=np.float32)
+    combined[..., :3] = rgb
+    combined[..., 3] = 1.0 if alpha is None else alpha
+    out["Combined"] = combined
+    missing = []
+    specs = {s[0]: s for s in PASS_SPECS}
+    for name in names:
+        _n, channels, _chan, _kind, _prop, attr = specs[name]
+        data = getattr(developed, attr, None)
+        if data is None:
+            missing.append(name)
+            out[name] = np.zeros((h, w, channels), dtype=np.float32)
+            continue
+        a = np.asarray(data, dtype=np.float32).reshape(h, w, channels)
+        if name == "Depth":
+            a = np.where(np.isfinite(a), a, np.float32(NO_HIT_DEPTH)).astype(np.float32)
+        out[name] = a
+    return out, missing
+
+
+def rows_bottom_up(a):
+    """(H, W, C) array with rows top-to-bottom → flat float32, rows bottom-up (Blender's order)."""
+    import numpy as np
+
+    return np.ascontiguousarray(np.asarray(a, dtype=np.float32)[::-1]).reshape(-1)
+
+
+def write_result_passes(layer, arrays):
+    """Copy ``arrays`` ({pass name: (H, W, C)}) into the render result layer's passes that exist."""
+    for name, a in arrays.items():
+        rp = layer.passes.find_by_name(name, "")
+        if rp is not None:
+            rp.rect.foreach_set(rows_bottom_up(a))

@@ -10,9 +10,9 @@ import os
 
 import bpy
 
-from . import operators, properties, ui
+from . import engine, operators, properties, ui
 
-MODULES = (properties, operators, ui)
+MODULES = (properties, engine, operators, ui)
 
 NUMBA_CACHE_SUBDIR = "numba_cache"
 

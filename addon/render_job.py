@@ -238,3 +238,120 @@ def cancel_current(wait=0.0):
     job.request_cancel()
     if wait and job.thread is not None:
         job.thread.join(timeout=wait)
+
+
+# ----------------------------------------------------------------------------- the RenderEngine's loop
+
+ENGINE_MIN_UPDATE = 0.2  # seconds between partial results, at least (more if developing is slow)
+
+
+def _develop(film, white_balance):
+    """The film's development (with the core's AOVs when it has them), white-balanced if asked."""
+    if white_balance is None:
+        return film.develop()
+    try:
+        return film.develop(white_balance=white_balance)
+    except TypeError:  # an older Film.develop without the argument
+        from ..core import develop
+
+        return develop(film.sums, white_balance=white_balance)
+
+
+def engine_threads(scene):
+    """Worker threads for an engine render: the add-on's setting, else Blender's fixed thread count, else all."""
+    settings = getattr(scene, "spectral_gi", None)
+    n = int(getattr(settings, "threads", 0) or 0)
+    if n > 0:
+        return n
+    r = scene.render
+    if getattr(r, "threads_mode", "AUTO") == "FIXED":
+        return int(r.threads)
+    return None
+
+
+def render_with_engine(engine, depsgraph):
+    """Export the depsgraph's scene and render it into ``engine``'s render result, progressively.
+
+    Partial results after each pass (throttled), ``test_break()`` cancels after the current
+    pass and keeps what was rendered; errors are reported, never raised.
+    """
+    from .export import ExportCancelled, export_scene
+    from .imageio import enabled_passes, pass_arrays, write_result_passes
+
+    scene = depsgraph.scene
+    view_layer = depsgraph.view_layer
+    settings = getattr(scene, "spectral_gi", None)
+    engine.update_stats("Spectral GI", "Exporting scene")
+    try:
+        exported = export_scene(depsgraph, scene, should_cancel=engine.test_break)
+    except ExportCancelled:
+        return
+    except Exception as exc:  # the scene cannot be exported: say why
+        traceback.print_exc()
+        engine.report({"ERROR"}, f"Spectral GI: cannot export the scene: {exc}")
+        return
+    if exported.warning:
+        engine.report({"WARNING"}, f"Spectral GI: {exported.warning}")
+    core_scene = exported.scene
+    cam = core_scene.camera
+    width, height = int(engine.resolution_x), int(engine.resolution_y)
+    if (width, height) != (cam.width, cam.height):
+        # border renders: Blender asks for its render size; render the whole frame at that size
+        cam.width, cam.height = width, height
+    total = int(core_scene.settings.spp)
+    white_balance = None
+    if settings is not None and getattr(settings, "white_balance", "NONE") == "LIGHT":
+        from ..core import scene_white_xy
+
+        white_balance = scene_white_xy(core_scene)
+    names = [p[0] for p in enabled_passes(view_layer)]
+
+    result = engine.begin_result(0, 0, width, height, layer=view_layer.name)
+    layer = result.layers[0]
+    clock = {"last": -1e9, "interval": ENGINE_MIN_UPDATE, "shown": 0}
+
+    def status(text):
+        engine.update_stats("Spectral GI", str(text))
+
+    def progress(done, total_spp, rate):
+        engine.update_progress(min(1.0, done / max(total_spp, 1)))
+        engine.update_stats("Spectral GI", f"Sample {done}/{total_spp} | {rate / 1e6:.2f} M samples/s")
+
+    def on_pass(film):
+        now = time.monotonic()
+        if now - clock["last"] < clock["interval"] or film.spp >= total:
+            return  # the last pass is written in full below
+        t0 = time.perf_counter()
+        arrays, _ = pass_arrays(_develop(film, white_balance), [])
+        write_result_passes(layer, arrays)
+        engine.update_result(result)
+        clock["shown"] = film.spp
+        clock["last"] = time.monotonic()
+        # developing a large film is not free: update less often than it takes, 4×
+        clock["interval"] = max(ENGINE_MIN_UPDATE, 4.0 * (time.perf_counter() - t0))
+
+    stats = None
+    try:
+        from ..core import render
+
+        film, stats = render(core_scene, threads=engine_threads(scene), progress=progress,
+                             should_cancel=engine.test_break, on_pass=on_pass, status=status)
+        if film.spp > 0:
+            arrays, missing = pass_arrays(_develop(film, white_balance), names)
+            write_result_passes(layer, arrays)
+            if missing:
+                engine.report({"WARNING"}, "Spectral GI: this build of the renderer does not produce the "
+                                           f"{', '.join(missing)} pass(es); they are left black")
+    except Exception as exc:  # a failure in the renderer: report it, keep Blender alive
+        traceback.print_exc()
+        engine.report({"ERROR"}, f"Spectral GI: render failed: {type(exc).__name__}: {exc}")
+    finally:
+        engine.end_result(result)
+    if stats is not None:
+        if stats.cancelled:
+            text = f"Cancelled after {stats.spp} of {total} samples ({stats.seconds:.1f} s)"
+        else:
+            text = (f"{stats.spp} samples in {stats.seconds:.1f} s "
+                    f"({stats.samples_per_second / 1e6:.2f} M samples/s)")
+        engine.update_stats("Spectral GI", text)
+        STATE.message = text

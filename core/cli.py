@@ -2,6 +2,7 @@
 
     spectral-gi render [SCENE] [--spp N] [--width W --height H] [--max-depth D]
                        [--seed S] [--threads T] [--out FILE.exr] [--exposure EV]
+    spectral-gi render-blend SCENE.blend [--out FILE.exr] [--spp N] [--compare-cycles] [--json REPORT.json]
     spectral-gi save-default-scene OUT.json
 
 Without SCENE it renders the built-in Cornell box. Bad input prints one line
@@ -89,6 +90,9 @@ def _parser():
     r.add_argument("--max-depth", type=_non_negative_int,
                    help="maximum number of bounces, as Cycles' Max Bounces (0: direct light only; default 64)")
     r.add_argument("--seed", type=_non_negative_int, help="random seed")
+    r.add_argument("--sampler", choices=("independent", "halton", "hammersley"),
+                   help="sample generator: independent random numbers, or Owen-scrambled Halton or "
+                        "Hammersley points per pixel (default: the scene's, independent)")
     r.add_argument("--threads", type=_non_negative_int, default=0, help="worker threads (0: all cores)")
     r.add_argument("--out", help="output OpenEXR file (default: cornell.exr or <scene>.exr); "
                                  "the sRGB PNG preview is written beside it")
@@ -96,6 +100,15 @@ def _parser():
                    help="also write the spectral radiance in this many bins of 360-830 nm as "
                         "S0.<wavelength>nm channels (Fichet et al. 2021 layout; default 0: off)")
     r.add_argument("--exposure", type=float, default=0.0, help="exposure of the PNG preview in stops (default 0)")
+    b = sub.add_parser("render-blend", help="render a .blend file with the bpy module (no Blender window) to "
+                                            "OpenEXR + PNG, optionally compared with Cycles")
+    b.add_argument("blend", help="the .blend file")
+    b.add_argument("--out", help="output OpenEXR file (default: <blend name>.exr); the PNG is written beside it")
+    b.add_argument("--spp", type=_positive_int, help="samples per pixel (default: the scene's Spectral GI setting)")
+    b.add_argument("--compare-cycles", action="store_true",
+                   help="also render with Cycles at matched settings and report luminance ratio, relative RMSE "
+                        "and ΔE00 (images and report beside --out)")
+    b.add_argument("--json", help="write a JSON report of the render (and the comparison) to this file")
     s = sub.add_parser("save-default-scene", help="write the built-in Cornell box as a scene file")
     s.add_argument("out", help="output scene file (.json; the .npz is written beside it)")
     return p
@@ -174,6 +187,9 @@ def _render(args):
         st.max_depth = args.max_depth
     if args.seed is not None:
         st.seed = args.seed
+    if args.sampler:
+        st.sampler = {"independent": C.SAMPLER_INDEPENDENT, "halton": C.SAMPLER_HALTON,
+                      "hammersley": C.SAMPLER_HAMMERSLEY}[args.sampler]
     validate(scene)
     out = Path(args.out or default_out)
     if out.suffix.lower() != ".exr":
@@ -215,6 +231,26 @@ def _render(args):
     return EXIT_OK
 
 
+def _render_blend(args):
+    """``render-blend``: handled by the add-on's headless driver (it needs bpy, which core never imports).
+
+    The driver is this package's ``addon.headless``, imported only when the command runs.
+    """
+    import importlib
+
+    package = (__package__ or "").rpartition(".")[0]
+    if not package:
+        return _fail("render-blend needs the installed spectral_gi package (run `spectral-gi render-blend`)",
+                     EXIT_ERROR)
+    headless = importlib.import_module(package + ".addon.headless")
+    try:
+        return headless.main(args)
+    except headless.HeadlessError as e:
+        return _fail(str(e), EXIT_ERROR)
+    except RuntimeError as e:  # from Blender (e.g. a failed Cycles render)
+        return _fail(" ".join(str(e).split()), EXIT_ERROR)
+
+
 def main(argv=None):
     args = _parser().parse_args(argv)
     from .scene import SceneError
@@ -222,6 +258,8 @@ def main(argv=None):
     try:
         if args.command == "render":
             return _render(args)
+        if args.command == "render-blend":
+            return _render_blend(args)
         if args.command == "save-default-scene":
             from .scene import save
             from .scenes import cornell_box

@@ -204,6 +204,15 @@ def camera_medium(scene: Scene, v0, v1, v2, tri_mat_orig, mat_medium):
     return max(set(votes), key=votes.count)
 
 
+def _scene_radius(v0, v1, v2):
+    """Radius of a sphere around every triangle (1 m for an empty scene)."""
+    if not v0.size:
+        return 1.0
+    pts = np.concatenate([v0, v1, v2])
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    return max(0.5 * float(np.linalg.norm(hi - lo)), 1e-3)
+
+
 def prepare(scene: Scene) -> Prepared:
     validate(scene)
     t0 = time.perf_counter()
@@ -256,41 +265,77 @@ def prepare(scene: Scene) -> Prepared:
             mat_emis_scale[i] = _luminance_scale(spec[m.emission], cmf, m.emission_luminance,
                                                  f"materials ({m.name!r}).emission")
 
-    # analytic lights
+    # analytic lights (row layout and units: core/kernels/lights.py)
+    from .kernels import lights as LG
+
     n_l = len(scene.lights)
     light_kind = np.zeros(n_l, np.int32)
-    light_geo = np.zeros((n_l, 13))
+    light_geo = np.zeros((n_l, LG.LG_SIZE))
     light_spec = np.zeros(n_l, np.int32)
     light_scale = np.zeros(n_l)
     light_two = np.zeros(n_l, np.int32)
     light_vis = np.zeros(n_l, np.int32)
+    light_power = np.zeros(n_l)
+    scene_radius = _scene_radius(v0, v1, v2)
     for i, li in enumerate(scene.lights):
-        u = np.asarray(li.axis_u, np.float64)
-        v = np.asarray(li.axis_v, np.float64)
-        n = np.cross(u, v)
-        rect_area = 4.0 * np.linalg.norm(n)
-        area = rect_area if li.kind == C.LIGHT_RECT else rect_area * np.pi / 4.0
-        light_kind[i] = li.kind
-        light_geo[i, 0:3] = li.position
-        light_geo[i, 3:6] = u
-        light_geo[i, 6:9] = v
-        light_geo[i, 9:12] = n / np.linalg.norm(n)
-        light_geo[i, 12] = area
+        what = f"lights[{i}] ({li.name!r})"
+        kind = int(li.kind)
+        light_kind[i] = kind
+        light_geo[i, LG.LG_POS:LG.LG_POS + 3] = li.position
         light_spec[i] = li.spectrum
-        light_scale[i] = _luminance_scale(spec[li.spectrum], cmf, li.luminance, f"lights ({li.name!r})")
         light_two[i] = 1 if li.two_sided else 0
         light_vis[i] = 1 if li.visible else 0
+        shape = spec[li.spectrum]
+        if kind in (C.LIGHT_RECT, C.LIGHT_ELLIPSE):
+            u = np.asarray(li.axis_u, np.float64)
+            v = np.asarray(li.axis_v, np.float64)
+            n = np.cross(u, v)
+            rect_area = 4.0 * np.linalg.norm(n)
+            area = rect_area if kind == C.LIGHT_RECT else rect_area * np.pi / 4.0
+            light_geo[i, LG.LG_U:LG.LG_U + 3] = u
+            light_geo[i, LG.LG_V:LG.LG_V + 3] = v
+            light_geo[i, LG.LG_N:LG.LG_N + 3] = n / np.linalg.norm(n)
+            light_geo[i, LG.LG_AREA] = area
+            light_scale[i] = _luminance_scale(shape, cmf, li.luminance, what)
+            light_power[i] = np.pi * li.luminance * area * (2.0 if li.two_sided else 1.0)  # lm
+        elif kind in (C.LIGHT_POINT, C.LIGHT_SPOT):
+            r = float(li.radius)
+            inten = float(li.intensity)
+            light_geo[i, LG.LG_RADIUS] = r
+            # a sphere of radius r with radiance I / (π r²) has intensity I in every direction
+            light_scale[i] = _luminance_scale(shape, cmf, inten / (np.pi * r * r) if r > 0 else inten, what)
+            if kind == C.LIGHT_POINT:
+                light_power[i] = 4.0 * np.pi * inten
+            else:
+                d = np.asarray(li.direction, np.float64)
+                light_geo[i, LG.LG_N:LG.LG_N + 3] = d / np.linalg.norm(d)
+                ch = float(np.cos(0.5 * li.spot_angle))
+                blend = float(li.spot_blend)
+                light_geo[i, LG.LG_COS_HALF] = ch
+                light_geo[i, LG.LG_SMOOTH] = 1.0 / ((1.0 - ch) * blend) if blend > 0 and ch < 1 else 0.0
+                # ∫ mask dω = 2π ∫_{cos½}^1 mask dt, and smoothstep over its ramp averages 1/2
+                light_power[i] = 2.0 * np.pi * inten * (1.0 - ch) * (1.0 - 0.5 * blend)
+        else:  # sun
+            d = np.asarray(li.direction, np.float64)
+            light_geo[i, LG.LG_N:LG.LG_N + 3] = -d / np.linalg.norm(d)  # towards the sun
+            half = 0.5 * float(li.angle)
+            k = 2.0 * np.sin(0.5 * half) ** 2  # 1 - cos(half), exact for tiny angles
+            light_geo[i, LG.LG_SUN_K] = k
+            e = float(li.illuminance)
+            light_scale[i] = _luminance_scale(shape, cmf, e / (np.pi * np.sin(half) ** 2) if k > 0 else e, what)
+            # the flux the sun sends through the disc of the scene's bounding sphere
+            light_power[i] = e * np.pi * scene_radius ** 2
 
-    # emitter distribution, proportional to power (luminance · area · sides)
+    # emitter distribution, proportional to luminous flux (lm): π L A per side for
+    # emissive triangles and area lights, see above for point, spot and sun lights
     e1 = bvh.e1.astype(np.float64)
     e2 = bvh.e2.astype(np.float64)
     tri_area = 0.5 * np.linalg.norm(np.cross(e1, e2), axis=1)
     emissive = (mat_emis[tri_mat] >= 0) & (tri_area > 0) if tri_mat.size else np.zeros(0, bool)
     em_tris = np.nonzero(emissive)[0].astype(np.int32)
     lum = np.array([m.emission_luminance for m in scene.materials] or [0.0])
-    power_tri = lum[tri_mat[em_tris]] * tri_area[em_tris] * (1.0 + mat_emis_two[tri_mat[em_tris]])
-    power_light = np.array([li.luminance * light_geo[i, 12] * (2.0 if li.two_sided else 1.0)
-                            for i, li in enumerate(scene.lights)], dtype=np.float64)
+    power_tri = np.pi * lum[tri_mat[em_tris]] * tri_area[em_tris] * (1.0 + mat_emis_two[tri_mat[em_tris]])
+    power_light = light_power
     power = np.concatenate([power_tri, power_light])
     keep_l = power_light > 0
     emit_tri = np.concatenate([em_tris, np.full(n_l, -1, np.int32)])
@@ -324,8 +369,9 @@ def prepare(scene: Scene) -> Prepared:
             world_spec = -1
 
     pts = [np.abs(v0).max(initial=0), np.abs(v1).max(initial=0), np.abs(v2).max(initial=0)]
-    if n_l:
-        pts.append(np.abs(light_geo[:, :3]).max())
+    not_sun = light_kind != C.LIGHT_SUN
+    if np.any(not_sun):
+        pts.append(np.abs(light_geo[not_sun, :3]).max() + light_geo[not_sun, 13].max())
     scene_scale = max(1.0, float(max(pts)))
     ior_tab = scene.ior_tables.values if len(scene.ior_tables) else np.ones((1, C.N_LAMBDA), np.float32)
     mat_medium, med_tab, med_g = media_tables(scene, spec)
@@ -350,7 +396,7 @@ def _rows(prep, film, y0, y1, s0, s1):
                 prep.ior_tab, prep.mat_emis, prep.mat_emis_scale, prep.mat_emis_two, prep.spec, prep.cmf,
                 prep.light_kind, prep.light_geo, prep.light_spec, prep.light_scale, prep.light_two_sided,
                 prep.light_visible, prep.emit_cdf, prep.emit_prob, prep.emit_tri, prep.emit_light,
-                int(prep.world_spec), float(prep.world_scale), film.spectral,
+                int(prep.world_spec), float(prep.world_scale), film.spectral, int(st.sampler), int(st.spp),
                 prep.mat_medium, prep.med_tab, prep.med_g, int(prep.cam_medium))
 
 

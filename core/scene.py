@@ -157,7 +157,7 @@ class Light:
     """
 
     name: str
-    kind: int  # LIGHT_RECT or LIGHT_ELLIPSE
+    kind: int  # LIGHT_* tag
     position: tuple  # centre, metres
     axis_u: tuple  # half-extent vector, metres
     axis_v: tuple  # half-extent vector, metres
@@ -401,15 +401,33 @@ def validate(scene: Scene) -> Scene:
 
     for i, li in enumerate(scene.lights):
         nm = f"lights[{i}] ({li.name!r})"
-        if li.kind not in (C.LIGHT_RECT, C.LIGHT_ELLIPSE):
-            _fail(f"{nm}.kind", f"unknown light kind {li.kind}")
+        if isinstance(li.kind, bool) or li.kind not in C.LIGHT_KINDS:
+            _fail(f"{nm}.kind", f"unknown light kind {li.kind} (0 rect, 1 ellipse, 2 point, 3 spot, 4 sun)")
         _check_vec3(f"{nm}.position", li.position)
         u = _check_vec3(f"{nm}.axis_u", li.axis_u)
         v = _check_vec3(f"{nm}.axis_v", li.axis_v)
-        if np.linalg.norm(np.cross(u, v)) <= 0.0:
-            _fail(f"{nm}.axis_u", "the light's axes span no area")
         spec_ref(f"{nm}.spectrum", li.spectrum, C.SPECTRUM_UNBOUNDED, allow_none=False)
-        _check_number(f"{nm}.luminance", li.luminance, lo=0.0)
+        if li.kind in (C.LIGHT_RECT, C.LIGHT_ELLIPSE):
+            if np.linalg.norm(np.cross(u, v)) <= 0.0:
+                _fail(f"{nm}.axis_u", "the light's axes span no area")
+            _check_number(f"{nm}.luminance", li.luminance, lo=0.0)
+        else:
+            _check_number(f"{nm}.luminance", li.luminance)  # unused by point, spot and sun lights
+        if li.kind in (C.LIGHT_POINT, C.LIGHT_SPOT):
+            _check_number(f"{nm}.radius", li.radius, lo=0.0, hi=1e6)
+            _check_number(f"{nm}.intensity", li.intensity, lo=0.0)
+        if li.kind in (C.LIGHT_SPOT, C.LIGHT_SUN):
+            d = _check_vec3(f"{nm}.direction", li.direction)
+            if not np.linalg.norm(d) > 0.0:
+                _fail(f"{nm}.direction", "must be a non-zero vector (it is normalised)")
+        if li.kind == C.LIGHT_SPOT:
+            _check_number(f"{nm}.spot_angle", li.spot_angle, lo=0.0, hi=math.pi)
+            if li.spot_angle <= 0.0:
+                _fail(f"{nm}.spot_angle", "must be > 0 (the full cone angle in radians, at most π)")
+            _check_number(f"{nm}.spot_blend", li.spot_blend, lo=0.0, hi=1.0)
+        if li.kind == C.LIGHT_SUN:
+            _check_number(f"{nm}.illuminance", li.illuminance, lo=0.0)
+            _check_number(f"{nm}.angle", li.angle, lo=0.0, hi=math.pi)
 
     cam = scene.camera
     _check_array("camera.to_world", np.asarray(cam.to_world), np.float64, (4, 4))
@@ -436,6 +454,9 @@ def validate(scene: Scene) -> Scene:
     _check_number("settings.max_depth", s.max_depth, lo=0, hi=1024, integer=True)
     _check_number("settings.rr_depth", s.rr_depth, lo=1, hi=1024, integer=True)
     _check_number("settings.seed", s.seed, lo=0, hi=2**32 - 1, integer=True)
+    _check_number("settings.sampler", s.sampler, integer=True)
+    if s.sampler not in (C.SAMPLER_INDEPENDENT, C.SAMPLER_HALTON, C.SAMPLER_HAMMERSLEY):
+        _fail("settings.sampler", f"unknown sampler {s.sampler} (0 independent, 1 Halton, 2 Hammersley)")
     return scene
 
 

@@ -14,7 +14,10 @@ from .world import export_world
 
 __all__ = ["ExportCancelled", "ExportError", "ExportResult", "export_scene", "render_settings"]
 
-DEFAULTS = {"samples": 64, "max_bounces": 16, "seed": 0}
+DEFAULTS = {"samples": 64, "max_bounces": 16, "seed": 0, "use_animated_seed": False, "sampler": "INDEPENDENT",
+            "pixel_filter": "BLACKMAN_HARRIS", "filter_width": 1.5, "time_limit": 0.0, "noise_target": 0.0}
+SAMPLER_TAGS = {"INDEPENDENT": "SAMPLER_INDEPENDENT", "HALTON": "SAMPLER_HALTON", "HAMMERSLEY": "SAMPLER_HAMMERSLEY"}
+FILTER_TAGS = {"BOX": "FILTER_BOX", "BLACKMAN_HARRIS": "FILTER_BLACKMAN_HARRIS", "GAUSSIAN": "FILTER_GAUSSIAN"}
 
 
 @dataclass
@@ -25,11 +28,18 @@ class ExportResult:
 
 def render_settings(scene):
     """core.RenderSettings from ``scene.spectral_gi`` (defaults if the add-on's properties are absent)."""
-    from ...core import RenderSettings
+    from ...core import RenderSettings, constants
 
     s = getattr(scene, "spectral_gi", None)
-    get = (lambda k: getattr(s, k)) if s is not None else DEFAULTS.get
-    return RenderSettings(spp=int(get("samples")), max_depth=int(get("max_bounces")), seed=int(get("seed")))
+    get = (lambda k: getattr(s, k, DEFAULTS[k])) if s is not None else DEFAULTS.get
+    seed = int(get("seed"))
+    if get("use_animated_seed"):
+        seed = (seed + int(scene.frame_current)) % (2**31)
+    return RenderSettings(spp=int(get("samples")), max_depth=int(get("max_bounces")), seed=seed,
+                          sampler=getattr(constants, SAMPLER_TAGS[get("sampler")]),
+                          filter=getattr(constants, FILTER_TAGS[get("pixel_filter")]),
+                          filter_width=float(get("filter_width")), time_limit=float(get("time_limit")),
+                          noise_target=float(get("noise_target")))
 
 
 def _instance_name(inst, obj):

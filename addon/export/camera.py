@@ -1,4 +1,6 @@
 """The scene's active camera → the core camera."""
+import numpy as np
+
 from .context import ExportError
 from .convert import camera_to_world_metres, matrix_to_array, render_resolution
 
@@ -18,7 +20,8 @@ def sensor_fit_tag(fit):
 
 
 def export_camera(ctx, scene, depsgraph):
-    from ...core import Camera
+    """The core camera: perspective or orthographic (``ortho_scale``), thin lens when depth of field is on."""
+    from ...core import Camera, constants
 
     cam_obj = scene.camera
     if cam_obj is None:
@@ -27,17 +30,36 @@ def export_camera(ctx, scene, depsgraph):
     if ev.type != "CAMERA":
         raise ExportError(f"the scene's camera {cam_obj.name!r} is not a camera object")
     data = ev.data
-    if data.type != "PERSP":
-        raise ExportError(f"camera {cam_obj.name!r}: only perspective cameras are supported "
-                          f"(it is {data.type.lower()})")
-    if data.dof.use_dof:
-        ctx.note(f"{cam_obj.name}: depth of field ignored")
     r = scene.render
     if r.pixel_aspect_x != r.pixel_aspect_y:
         ctx.note("non-square pixel aspect ignored")
     width, height = render_resolution(r.resolution_x, r.resolution_y, r.resolution_percentage)
+    to_world = camera_to_world_metres(matrix_to_array(ev.matrix_world), ctx.scale_length)
+    extra = {}
+    if data.type == "ORTHO":
+        extra["projection"] = constants.CAM_ORTHOGRAPHIC
+        extra["ortho_scale"] = float(data.ortho_scale) * ctx.scale_length
+    elif data.type != "PERSP":
+        raise ExportError(f"camera {cam_obj.name!r}: only perspective and orthographic cameras are supported "
+                          f"(it is {data.type.lower()})")
+    dof = data.dof
+    if dof.use_dof:
+        if data.type == "ORTHO":
+            ctx.note(f"{cam_obj.name}: depth of field of an orthographic camera ignored")
+        elif dof.aperture_fstop > 0.0:
+            extra["fstop"] = float(dof.aperture_fstop)
+            target = dof.focus_object
+            if target is not None:
+                target_pos = matrix_to_array(target.evaluated_get(depsgraph).matrix_world)[:3, 3] * ctx.scale_length
+                extra["focus_distance"] = focus_distance_to_point(to_world, target_pos)
+            else:
+                extra["focus_distance"] = float(dof.focus_distance) * ctx.scale_length
+            if dof.aperture_blades >= 3:
+                ctx.note(f"{cam_obj.name}: polygonal aperture ({dof.aperture_blades} blades) exported as round")
+            if abs(dof.aperture_ratio - 1.0) > 1e-6:
+                ctx.note(f"{cam_obj.name}: anamorphic aperture ratio ignored")
     return Camera(
-        to_world=camera_to_world_metres(matrix_to_array(ev.matrix_world), ctx.scale_length),
+        to_world=to_world,
         width=width,
         height=height,
         lens_mm=float(data.lens),
@@ -46,4 +68,16 @@ def export_camera(ctx, scene, depsgraph):
         sensor_fit=sensor_fit_tag(data.sensor_fit),
         shift_x=float(data.shift_x),
         shift_y=float(data.shift_y),
+        **extra,
     )
+
+
+def focus_distance_to_point(to_world, point, minimum=1e-4):
+    """Focus distance (m) to ``point`` as Blender measures it: along the camera's viewing axis (-Z).
+
+    ``to_world`` is the core camera matrix (unit axes, metres); the result is at least ``minimum``.
+    """
+    m = np.asarray(to_world, dtype=np.float64)
+    view = -m[:3, 2] / np.linalg.norm(m[:3, 2])
+    d = float(np.dot(np.asarray(point, dtype=np.float64) - m[:3, 3], view))
+    return max(abs(d), float(minimum))

@@ -82,6 +82,15 @@ class ExportContext:
                                                          constants.SPECTRUM_UNBOUNDED)
         return self._spectrum_index[key]
 
+    def emission_spectrum(self, key, name, build):
+        """Index of the emission spectrum for ``key``; ``build()`` returns its coefficients the first time."""
+        from ...core import constants
+
+        key = ("E*",) + tuple(key)
+        if key not in self._spectrum_index:
+            self._spectrum_index[key] = self.spectra.add(name, build(), constants.SPECTRUM_UNBOUNDED)
+        return self._spectrum_index[key]
+
     def ior_table(self, name, values):
         """Index into ``ior_tables`` of the curve ``name`` (N_LAMBDA values on the 1 nm grid), added once."""
         if name not in self._ior_index:

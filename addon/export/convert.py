@@ -125,3 +125,85 @@ def rgba_rows_bottom_up(rgb):
     out[..., 3] = 1.0
     return out.reshape(-1)
 
+
+
+# ----------------------------------------------------------------------------- materials
+#
+# Cycles' roughness conventions (Blender 4.x/5.x): α = roughness². The Principled BSDF
+# stretches α by aspect = √(1 − 0.9·anisotropic) (αx = α/aspect, αy = α·aspect); the Glossy
+# BSDF's anisotropy a ∈ [−0.99, 0.99] gives αx = α(1 − a), αy = α/(1 − a) for a ≥ 0 and
+# αx = α/(1 + a), αy = α(1 + a) for a < 0.
+
+SMOOTH_ALPHA = 1e-3  # α at or below which a microfacet model is exported as its smooth (delta) model
+
+
+def _clamp01(x):
+    x = float(x)
+    return 0.0 if not x > 0.0 else 1.0 if x > 1.0 else x
+
+
+def principled_alpha(roughness, anisotropic=0.0):
+    """(αx, αy) of the Principled BSDF's specular lobes, each clamped to [0, 1]."""
+    a = _clamp01(roughness) ** 2
+    ax = ay = a
+    aniso = _clamp01(anisotropic)
+    if aniso > 0.0:
+        aspect = math.sqrt(1.0 - 0.9 * aniso)
+        ax, ay = a / aspect, a * aspect
+    return min(ax, 1.0), min(ay, 1.0)
+
+
+def glossy_alpha(roughness, anisotropy=0.0):
+    """(αx, αy) of the Glossy BSDF (its Anisotropy input in [−1, 1]), each clamped to [0, 1]."""
+    a = _clamp01(roughness) ** 2
+    k = min(max(float(anisotropy), -0.99), 0.99)
+    if abs(k) <= 1e-4:
+        return a, a
+    if k < 0.0:
+        ax, ay = a / (1.0 + k), a * (1.0 + k)
+    else:
+        ax, ay = a * (1.0 - k), a / (1.0 - k)
+    return min(ax, 1.0), min(ay, 1.0)
+
+
+def is_smooth(alpha_x, alpha_y):
+    """True when both roughnesses are small enough for the smooth (delta) model."""
+    return alpha_x <= SMOOTH_ALPHA and alpha_y <= SMOOTH_ALPHA
+
+
+def specular_level_ior(ior, level):
+    """The IOR whose normal-incidence reflectance is F0(ior) · 2·level (the Principled BSDF's
+    Specular IOR Level: 0.5 leaves the IOR unchanged, 0 removes the reflection, 1 doubles F0)."""
+    ior = float(ior)
+    level = max(float(level), 0.0)
+    if level == 0.5:
+        return ior
+    r = (ior - 1.0) / (ior + 1.0)
+    f0 = min(r * r * 2.0 * level, 0.999)
+    s = math.sqrt(f0)
+    eff = (1.0 + s) / (1.0 - s)
+    return eff if ior >= 1.0 else 1.0 / eff
+
+
+def mix_first_weight(factor):
+    """Probability of the Mix Shader's first input: (1 − fac), with fac clamped to [0, 1]."""
+    return 1.0 - _clamp01(factor)
+
+
+def combine_emission(terms):
+    """Sum of weighted emitters ``[(rgb, strength), ...]`` → one ``(rgb, strength)`` with max(rgb) = 1.
+
+    Returns the single term unchanged when there is one (so a plain emitter keeps its
+    colour exactly), and ``((0, 0, 0), 0.0)`` when nothing emits.
+    """
+    live = [(tuple(float(c) for c in rgb[:3]), float(s)) for rgb, s in terms
+            if s > 0.0 and max(float(c) for c in rgb[:3]) > 0.0]
+    if not live:
+        return (0.0, 0.0, 0.0), 0.0
+    if len(live) == 1:
+        return live[0]
+    total = np.zeros(3)
+    for rgb, s in live:
+        total += np.maximum(np.asarray(rgb), 0.0) * s
+    peak = float(total.max())
+    return tuple(float(c) for c in total / peak), peak

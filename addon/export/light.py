@@ -1,18 +1,160 @@
-"""Blender lights → core area lights."""
+"""Blender lights → core lights: area, point, spot and sun, with photometric units.
+
+Brightness (``Light.spectral_gi.unit``): by default Blender's Power / Strength and colour,
+read as Cycles reads them at 683 lm per Blender watt (core.lightunits); or lumens,
+candela, lux (sun) or cd/m² (area) from a data sheet. Colour
+(``Light.spectral_gi.spectrum``): the light's RGB colour (and Blender's temperature
+tint) as a smooth spectrum, or a blackbody, a CIE illuminant or a CIE LED spectrum.
+With a named spectrum and Blender's units, the light counts as white (its luminous
+output is 683 lm per Blender watt) and Blender's colour is not used.
+"""
 import math
 
+import numpy as np
+
+from .context import ExportError
 from .convert import (AREA_SHAPES, area_light_geometry, area_light_normalising_area, light_power_watts,
                       light_rgb)
+
+UNIT_NAMES = {"BLENDER": "blender_W", "LUMEN": "lm", "CANDELA": "cd", "LUX": "lux", "NIT": "cd/m2"}
+SOURCE_NAMES = {"RGB": "rgb", "BLACKBODY": "blackbody", "ILLUMINANT": "illuminant", "LED": "led"}
+
+
+# ----------------------------------------------------------------------------- geometry (pure functions)
+
+def light_position_metres(matrix, scale_length):
+    """World position of a light object (its matrix's translation) in metres."""
+    m = np.asarray(matrix, dtype=np.float64)
+    return tuple(float(x) for x in m[:3, 3] * float(scale_length))
+
+
+def light_direction(matrix):
+    """Unit world direction of the light object's local -Z axis (where spots point and sunlight travels)."""
+    m = np.asarray(matrix, dtype=np.float64)
+    d = -m[:3, 2]
+    n = float(np.linalg.norm(d))
+    if not n > 0.0:
+        raise ExportError("a light's matrix has a zero scale")
+    return tuple(float(x) for x in d / n)
+
+
+def has_uniform_scale(matrix, tolerance=1e-6):
+    """True if the matrix scales its three axes alike (a spot's cone stays circular)."""
+    m = np.asarray(matrix, dtype=np.float64)
+    s = np.linalg.norm(m[:3, :3], axis=0)
+    return bool(np.all(np.abs(s - s.mean()) <= tolerance * max(1.0, float(s.mean()))))
+
+
+def sphere_luminance(intensity_cd, radius_m):
+    """Luminance (cd/m²) of a sphere of ``radius_m`` with luminous intensity ``intensity_cd``: I / (π r²); 0 for a point."""
+    r = float(radius_m)
+    return float(intensity_cd) / (math.pi * r * r) if r > 0.0 else 0.0
+
+
+def sun_disc_luminance(illuminance_lux, angle_rad):
+    """Luminance (cd/m²) of a uniform sun disc of angular diameter ``angle_rad`` giving ``illuminance_lux``.
+
+    A disc of half-angle θ seen at normal incidence gives E = L π sin²θ. 0 for a point sun.
+    """
+    s = math.sin(0.5 * float(angle_rad))
+    return float(illuminance_lux) / (math.pi * s * s) if s > 0.0 else 0.0
+
+
+# ----------------------------------------------------------------------------- settings of one light
+
+def _settings(data):
+    """(unit name, value, spectrum source, temperature, name) from ``Light.spectral_gi`` (defaults without it)."""
+    s = getattr(data, "spectral_gi", None)
+    if s is None:
+        return "blender_W", None, "rgb", 6500.0, ""
+    source = SOURCE_NAMES.get(s.spectrum, "rgb")
+    name = s.illuminant if source == "illuminant" else s.led if source == "led" else ""
+    return UNIT_NAMES.get(s.unit, "blender_W"), float(s.value), source, float(s.temperature), name
+
+
+def _spectrum(ctx, name, data, source, temperature, preset):
+    """(spectrum index, rgb weight for Blender's units) of the light's emission."""
+    from ...core import light_emission_coeffs
+
+    if source == "rgb":
+        rgb = light_rgb(data.color, getattr(data, "use_temperature", False),
+                        getattr(data, "temperature_color", (1.0, 1.0, 1.0)))
+        if not max(rgb) > 0.0:
+            return None, rgb
+        return ctx.emission(f"{name} light", rgb), rgb
+    key = (source, round(temperature, 6)) if source == "blackbody" else (source, preset)
+    label = f"blackbody {temperature:g} K" if source == "blackbody" else preset
+    try:
+        index = ctx.emission_spectrum(key, label, lambda: light_emission_coeffs(
+            source, temperature=temperature, name=preset))
+    except ValueError as exc:
+        raise ExportError(f"light {name!r}: {exc}") from None
+    return index, (1.0, 1.0, 1.0)
+
+
+def _photometric(name, kind, unit, value, **kw):
+    from ...core import light_photometric
+
+    try:
+        return float(light_photometric(kind, unit, value, **kw))
+    except ValueError as exc:
+        raise ExportError(f"light {name!r}: {exc}") from None
 
 
 def export_light(ctx, obj, matrix, name):
     """A core Light for evaluated light object ``obj`` placed by ``matrix``, or None (recorded as skipped)."""
-    from ...core import Light, area_light_luminance, constants
+    from ...core import Light, constants
 
     data = obj.data
-    if data.type != "AREA":
-        ctx.skip(f"{data.type.lower()} lights", name)
+    kind = data.type
+    if kind not in ("AREA", "POINT", "SPOT", "SUN"):
+        ctx.skip(f"{kind.lower()} lights", name)
         return None
+    if getattr(data, "node_tree", None) is not None and getattr(data, "use_nodes", False):
+        ctx.skip("light node trees", name)
+    unit, value, source, temperature, preset = _settings(data)
+    power = light_power_watts(data.energy, getattr(data, "exposure", 0.0))
+    if power < 0.0:
+        ctx.note(f"{name}: negative power treated as 0")
+        power = 0.0
+    spectrum, rgb = _spectrum(ctx, name, data, source, temperature, preset)
+    if spectrum is None:
+        return None  # black light
+    amount = power if unit == "blender_W" else value
+    visible = bool(getattr(obj, "visible_camera", False))
+    zero = (0.0, 0.0, 0.0)
+
+    if kind == "AREA":
+        return _area_light(ctx, obj, data, matrix, name, unit, amount, rgb, spectrum, visible)
+
+    position = light_position_metres(matrix, ctx.scale_length)
+    if kind in ("POINT", "SPOT"):
+        radius = max(0.0, float(data.shadow_soft_size)) * ctx.scale_length
+        spot_angle = float(data.spot_size) if kind == "SPOT" else math.pi
+        spot_blend = float(data.spot_blend) if kind == "SPOT" else 0.0
+        intensity = _photometric(name, kind, unit, amount, rgb=rgb, spot_angle=spot_angle, spot_blend=spot_blend)
+        if kind == "SPOT" and not has_uniform_scale(matrix):
+            ctx.note(f"{name}: non-uniform scale of a spot light ignored (its cone stays circular)")
+        if getattr(data, "use_soft_falloff", False) and radius > 0.0:
+            ctx.note(f"{name}: soft falloff ignored (exported as a sphere of uniform radiance)")
+        return Light(
+            name=name, kind=constants.LIGHT_SPOT if kind == "SPOT" else constants.LIGHT_POINT,
+            position=position, axis_u=zero, axis_v=zero, spectrum=spectrum,
+            luminance=sphere_luminance(intensity, radius), two_sided=False, visible=visible,
+            radius=radius, intensity=intensity, direction=light_direction(matrix),
+            spot_angle=spot_angle, spot_blend=spot_blend)
+    # SUN
+    angle = max(0.0, float(data.angle))
+    illuminance = _photometric(name, kind, unit, amount, rgb=rgb)
+    return Light(
+        name=name, kind=constants.LIGHT_SUN, position=position, axis_u=zero, axis_v=zero, spectrum=spectrum,
+        luminance=sun_disc_luminance(illuminance, angle), two_sided=False, visible=visible,
+        direction=light_direction(matrix), illuminance=illuminance, angle=angle)
+
+
+def _area_light(ctx, obj, data, matrix, name, unit, amount, rgb, spectrum, visible):
+    from ...core import Light, constants
+
     if data.shape not in AREA_SHAPES:
         ctx.skip("area light shapes", f"{name} ({data.shape})")
         return None
@@ -21,25 +163,19 @@ def export_light(ctx, obj, matrix, name):
     if not area > 0.0:
         ctx.skip("area lights of zero size", name)
         return None
-    if getattr(data, "node_tree", None) is not None and getattr(data, "use_nodes", False):
-        ctx.skip("light node trees", name)
     if getattr(data, "spread", math.pi) < math.pi - 1e-6:
         ctx.note(f"{name}: spread ignored (emits over the full hemisphere)")
-    power = light_power_watts(data.energy, getattr(data, "exposure", 0.0))
-    if power < 0.0:
-        ctx.note(f"{name}: negative power treated as 0")
-        power = 0.0
-    rgb = light_rgb(data.color, getattr(data, "use_temperature", False),
-                    getattr(data, "temperature_color", (1.0, 1.0, 1.0)))
-    norm_area = area_light_normalising_area(area, getattr(data, "normalize", True), ctx.scale_length)
+    if unit == "blender_W":
+        area = area_light_normalising_area(area, getattr(data, "normalize", True), ctx.scale_length)
+    luminance = _photometric(name, "AREA", unit, amount, rgb=rgb, area_m2=area)
     return Light(
         name=name,
         kind=constants.LIGHT_ELLIPSE if is_ellipse else constants.LIGHT_RECT,
         position=tuple(float(x) for x in position),
         axis_u=tuple(float(x) for x in axis_u),
         axis_v=tuple(float(x) for x in axis_v),
-        spectrum=ctx.emission(f"{name} light", rgb),
-        luminance=float(area_light_luminance(power, norm_area, rgb)),
+        spectrum=spectrum,
+        luminance=luminance,
         two_sided=False,
-        visible=bool(getattr(obj, "visible_camera", False)),
+        visible=visible,
     )

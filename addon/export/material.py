@@ -1,9 +1,48 @@
-"""Blender materials → core materials (diffuse reflectance + emission)."""
-from .convert import rgb_of
-from .nodes import active_output, input_value, surface_node
+"""Blender materials → core materials: a tree of the core's BSDF models plus one emission.
 
-SUPPORTED_SURFACES = ("BSDF_PRINCIPLED", "BSDF_DIFFUSE", "EMISSION")
+The surface shader tree is evaluated into a small tree of core materials: BSDF leaves
+(Lambert, conductors, dielectrics, plastic, ...) joined by MAT_MIX (Mix Shader, and the
+Principled BSDF's metallic / transmission / alpha weights) and MAT_ADD (Add Shader).
+Every emitter in the tree, scaled by the weights above it, is summed into the root
+material's emission. Components with weight exactly 0 or 1 make no mix.
+
+Node → model (α = roughness², as Cycles):
+
+* Principled BSDF → MIX(metallic: metal, MIX(transmission: glass, plastic)); metal is a
+  GGX conductor (smooth CONDUCTOR when α ≈ 0) whose η, κ come from the base colour and
+  specular tint (``conductor_from_colour``), glass a (GGX_)DIELECTRIC tinted by the base
+  colour, plastic MAT_PLASTIC (diffuse base colour under a dielectric coat of the IOR).
+  Alpha < 1 mixes in a transparent surface. Coat, sheen, subsurface, thin film and
+  diffuse roughness are listed in the warning with the substitute used.
+* Diffuse → LAMBERT; Glossy → GGX conductor with the Fresnel of a perfect conductor
+  (η = κ = 0: reflectance 1 at every angle) tinted by its colour, MIRROR at roughness 0;
+  Metallic → GGX conductor (F82: η, κ fitted to base colour and edge tint; physical
+  conductor: its RGB η, κ interpolated over wavelength); Glass → (GGX_)DIELECTRIC,
+  colour tinting reflection and transmission; Refraction →
+  the same without reflection (noted); Transparent → a dielectric of IOR 1;
+  Emission → emission; Mix / Add Shader → MAT_MIX / MAT_ADD.
+
+``material.spectral_gi.model`` (the material panel) overrides the BSDF with one of the
+core's models and its parameters; the emission of the node tree is kept.
+"""
+from .convert import (combine_emission, glossy_alpha, is_smooth, mix_first_weight, principled_alpha, rgb_of,
+                      specular_level_ior)
+from .nodes import active_output, constant_input, ignored_links, input_value, shader_inputs, surface_node
+
+SUPPORTED_SURFACES = ("BSDF_PRINCIPLED", "BSDF_DIFFUSE", "BSDF_GLOSSY", "BSDF_METALLIC", "BSDF_GLASS",
+                      "BSDF_REFRACTION", "BSDF_TRANSPARENT", "EMISSION", "MIX_SHADER", "ADD_SHADER")
 COLOUR_INPUTS = ("Base Color", "Color")
+WHITE = (1.0, 1.0, 1.0)
+BLACK = (0.0, 0.0, 0.0)
+PERFECT_CONDUCTOR = "perfect conductor η = 0"
+# Principled inputs the core has no model for: (input, substitute shown in the warning)
+PRINCIPLED_UNSUPPORTED = (("Coat Weight", "coat", "ignored"), ("Sheen Weight", "sheen", "ignored"),
+                          ("Subsurface Weight", "subsurface", "diffuse base colour"),
+                          ("Thin Film Thickness", "thin film", "ignored"),
+                          ("Diffuse Roughness", "diffuse roughness", "Lambert"))
+IOR_RANGE = (1e-3, 100.0)  # core.validate's range for Material.ior
+GGX_DISTRIBUTIONS = ("GGX", "MULTI_GGX")
+MIX_DEPTH = 8  # core.constants.MIX_DEPTH (the kernel follows at most this many nested mixes)
 
 
 def material_key(mat):
@@ -17,56 +56,512 @@ def export_material(ctx, mat):
     return ctx.material_index(material_key(mat), lambda: build_material(ctx, mat))
 
 
-def _emission(ctx, name, rgb, strength):
-    """(spectrum index, luminance cd/m²) of an emitter, or (-1, 0.0) when it emits nothing."""
+# ----------------------------------------------------------------------------- the BSDF tree
+#
+# A tree is None (black: no BSDF), ("leaf", Material), ("mix", w_first, a, b) or ("add", a, b).
+
+
+def _mix(w_first, a, b):
+    """The tree of MIX(w_first: a, else b), without needless mixes."""
+    if w_first >= 1.0 or (a is None and b is None):
+        return a
+    if w_first <= 0.0:
+        return b
+    return ("mix", float(w_first), a, b)
+
+
+def _add(a, b):
+    if a is None:
+        return b
+    if b is None:
+        return a
+    return ("add", a, b)
+
+
+def _depth(tree):
+    if tree is None or tree[0] == "leaf":
+        return 0
+    return 1 + max(_depth(t) for t in tree[-2:])
+
+
+def _emit_tree(ctx, name, tree):
+    """Add the components of ``tree`` to ctx.materials and return its root Material (not added)."""
+    from ...core import Material, constants, lambert_params
+
+    if tree is None:
+        return Material(name=name, model=constants.MAT_LAMBERT, params=lambert_params())  # black
+    if tree[0] == "leaf":
+        return tree[1]
+    a, b = tree[-2], tree[-1]
+    ia = ctx.add_material(_emit_tree(ctx, f"{name} mix.a", a))
+    ib = ctx.add_material(_emit_tree(ctx, f"{name} mix.b", b))
+    if tree[0] == "mix":
+        return Material(name=name, model=constants.MAT_MIX, params=[tree[1], float(ia), float(ib)])
+    return Material(name=name, model=constants.MAT_ADD, params=[0.0, float(ia), float(ib)])
+
+
+def _scaled(emissions, w):
+    return [(rgb, s * w) for rgb, s in emissions]
+
+
+# ----------------------------------------------------------------------------- spectra and IOR curves
+
+
+def _refl(ctx, name, rgb):
+    return ctx.reflectance(name, tuple(min(max(float(c), 0.0), 1.0) for c in rgb))
+
+
+def _tint(ctx, name, rgb):
+    """A tint spectrum (-1 = white, the kernels' default for ``specular``)."""
+    rgb = rgb_of(rgb)
+    if all(c >= 1.0 for c in rgb):
+        return -1
+    return _refl(ctx, name, rgb)
+
+
+def _preset_reflectance(ctx, patch):
+    from ...core import constants, reflectance_preset
+
+    key = ("P", patch)
+    index = ctx._spectrum_index
+    if key not in index:
+        index[key] = ctx.spectra.add(f"ColorChecker {patch}", reflectance_preset(patch),
+                                     constants.SPECTRUM_BOUNDED)
+    return index[key]
+
+
+def _perfect_conductor(ctx):
+    from ...core import constants
+    import numpy as np
+
+    return ctx.ior_table(PERFECT_CONDUCTOR, np.zeros(constants.N_LAMBDA))
+
+
+def _conductor_tables(ctx, rgb, edge_rgb):
+    """(η table, κ table) of the conductor whose normal-incidence reflectance is the colour ``rgb``
+    and edge tint ``edge_rgb`` (Gulbrandsen 2014, per wavelength of the uplifted spectra)."""
+    import numpy as np
+
+    from ...core import conductor_from_colour, reflectance_from_rgb, tabulate_reflectance
+
+    rgb = tuple(min(max(float(c), 0.0), 1.0) for c in rgb_of(rgb))
+    edge = tuple(min(max(float(c), 0.0), 1.0) for c in rgb_of(edge_rgb))
+    key = f"conductor r={rgb!r} g={edge!r}"
+    if key + " η" not in ctx._ior_index:
+        r = np.clip(tabulate_reflectance(reflectance_from_rgb(rgb)), 0.0, 0.9999)
+        g = np.clip(tabulate_reflectance(reflectance_from_rgb(edge)), 0.0, 1.0)
+        eta, kappa = conductor_from_colour(r, g)
+        ctx.ior_table(key + " η", np.asarray(eta, np.float64))
+        ctx.ior_table(key + " κ", np.asarray(kappa, np.float64))
+    return ctx.ior_table(key + " η", None), ctx.ior_table(key + " κ", None)
+
+
+def _metal_tables(ctx, metal):
+    from ...core import metal_preset
+
+    key = f"metal {metal}"
+    if key + " η" not in ctx._ior_index:
+        eta, kappa = metal_preset(metal)
+        ctx.ior_table(key + " η", eta)
+        ctx.ior_table(key + " κ", kappa)
+    return ctx.ior_table(key + " η", None), ctx.ior_table(key + " κ", None)
+
+
+def _glass_table(ctx, glass):
+    from ...core import glass_preset
+
+    key = f"glass {glass} η"
+    if key not in ctx._ior_index:
+        ctx.ior_table(key, glass_preset(glass))
+    return ctx.ior_table(key, None)
+
+
+def _ior(ctx, owner, value):
+    lo, hi = IOR_RANGE
+    v = float(value)
+    if not lo <= v <= hi:
+        ctx.note(f"{owner}: IOR {v:g} clamped to [{lo:g}, {hi:g}]")
+        v = min(max(v, lo), hi)
+    return v
+
+
+# ----------------------------------------------------------------------------- leaves
+
+
+def _leaf(**fields):
+    from ...core import Material
+
+    return ("leaf", Material(**fields))
+
+
+def conductor_leaf(ctx, name, ax, ay, eta_table, kappa_table=-1, reflectance=None, two_sided=True):
+    """A GGX conductor, or a smooth CONDUCTOR when α ≈ 0; ``reflectance`` (a spectrum index) tints it."""
+    from ...core import conductor_params, constants, ggx_conductor_params
+
+    refl = _refl(ctx, "white", WHITE) if reflectance is None else reflectance
+    if is_smooth(ax, ay):
+        return _leaf(name=name, model=constants.MAT_CONDUCTOR, params=conductor_params(two_sided),
+                     reflectance=refl, eta_table=eta_table, kappa_table=kappa_table)
+    return _leaf(name=name, model=constants.MAT_GGX_CONDUCTOR, params=ggx_conductor_params(ax, ay, two_sided),
+                 reflectance=refl, eta_table=eta_table, kappa_table=kappa_table)
+
+
+def dielectric_leaf(ctx, name, ax, ay, ior=1.5, eta_table=-1, transmission=None, reflection=-1):
+    """A GGX dielectric, or a smooth DIELECTRIC when α ≈ 0; spectra index the tints (None: white)."""
+    from ...core import constants, dielectric_params, ggx_dielectric_params
+
+    tra = _refl(ctx, "white", WHITE) if transmission is None else transmission
+    if is_smooth(ax, ay):
+        return _leaf(name=name, model=constants.MAT_DIELECTRIC, params=dielectric_params(), reflectance=tra,
+                     specular=reflection, ior=ior, eta_table=eta_table)
+    return _leaf(name=name, model=constants.MAT_GGX_DIELECTRIC, params=ggx_dielectric_params(ax, ay),
+                 reflectance=tra, specular=reflection, ior=ior, eta_table=eta_table)
+
+
+def _transparent(ctx, name, rgb=WHITE):
+    from ...core import constants, dielectric_params
+
+    return _leaf(name=name, model=constants.MAT_DIELECTRIC, params=dielectric_params(),
+                 reflectance=_refl(ctx, name, rgb), specular=_refl(ctx, "black", BLACK), ior=1.0)
+
+
+# ----------------------------------------------------------------------------- shader nodes
+
+
+def _principled(ctx, owner, node):
+    from ...core import constants, lambert_params, plastic_params
+
+    label = f"{owner}/{node.name}"
+
+    def val(name, default=0.0):
+        v = input_value(ctx, owner, node, (name,), "value")
+        return default if v is None else v
+
+    def col(name, default=WHITE):
+        v = input_value(ctx, owner, node, (name,), "colour")
+        return default if v is None else v
+
+    base = col("Base Color", (0.8, 0.8, 0.8))
+    metallic = min(max(val("Metallic"), 0.0), 1.0)
+    transmission = min(max(val("Transmission Weight"), 0.0), 1.0)
+    alpha = min(max(val("Alpha", 1.0), 0.0), 1.0)
+    ax, ay = principled_alpha(val("Roughness", 0.5), val("Anisotropic"))
+    ior = _ior(ctx, owner, val("IOR", 1.5))
+    spec_tint = col("Specular Tint")
+    level = val("Specular IOR Level", 0.5)
+    if val("Anisotropic") > 0.0 and val("Anisotropic Rotation") != 0.0:
+        ctx.note(f"{owner}: anisotropic rotation ignored (the tangent frame is the renderer's own)")
+    if getattr(node, "distribution", "GGX") not in GGX_DISTRIBUTIONS:
+        ctx.note(f"{owner}: '{node.name}' distribution {node.distribution} rendered as GGX")
+    ignored_links(ctx, owner, node, ("Normal", "Tangent", "Coat Normal"))
+    for inp, what, substitute in PRINCIPLED_UNSUPPORTED:
+        v = val(inp)
+        if v > 0.0:
+            ctx.skip("Principled BSDF inputs", f"{label}: {what} {v:g} ({substitute})")
+
+    metal = glass = plastic = None
+    if metallic > 0.0:
+        eta, kappa = _conductor_tables(ctx, base, spec_tint)
+        metal = conductor_leaf(ctx, f"{owner}: metal", ax, ay, eta, kappa)
+    if metallic < 1.0 and transmission > 0.0:
+        glass = dielectric_leaf(ctx, f"{owner}: glass", ax, ay, ior=ior,
+                                transmission=_refl(ctx, owner, base), reflection=_tint(ctx, f"{owner} tint", spec_tint))
+        if level != 0.5:
+            ctx.note(f"{owner}: Specular IOR Level not applied to transmission")
+    if metallic < 1.0 and transmission < 1.0:
+        coat_ior = _ior(ctx, owner, specular_level_ior(ior, level))
+        if abs(coat_ior - 1.0) < 1e-9:  # no specular layer at all: plain Lambert
+            plastic = _leaf(name=f"{owner}: diffuse", model=constants.MAT_LAMBERT, params=lambert_params(),
+                            reflectance=_refl(ctx, owner, base))
+        else:
+            plastic = _leaf(name=f"{owner}: plastic", model=constants.MAT_PLASTIC, params=plastic_params(ax, ay),
+                            reflectance=_refl(ctx, owner, base), specular=_tint(ctx, f"{owner} tint", spec_tint),
+                            ior=coat_ior)
+    tree = _mix(metallic, metal, _mix(transmission, glass, plastic))
+    if alpha < 1.0:
+        ctx.note(f"{owner}: alpha {alpha:g} rendered as a stochastic mix with a transparent surface")
+        tree = _mix(alpha, tree, _transparent(ctx, f"{owner}: transparent"))
+    emission = [(col("Emission Color", BLACK), val("Emission Strength", 0.0))]
+    return tree, emission
+
+
+def _glossy(ctx, owner, node):
+    from ...core import constants, mirror_params
+
+    colour = input_value(ctx, owner, node, ("Color",), "colour")
+    ax, ay = glossy_alpha(input_value(ctx, owner, node, ("Roughness",), "value"),
+                          input_value(ctx, owner, node, ("Anisotropy",), "value") or 0.0)
+    if not is_smooth(ax, ay) and getattr(node, "distribution", "GGX") not in GGX_DISTRIBUTIONS:
+        ctx.note(f"{owner}: '{node.name}' distribution {node.distribution} rendered as GGX")
+    ignored_links(ctx, owner, node, ("Normal", "Tangent"))
+    name = f"{owner}: {node.name}"
+    if is_smooth(ax, ay):
+        return _leaf(name=name, model=constants.MAT_MIRROR, params=mirror_params(),
+                     reflectance=_refl(ctx, owner, colour))
+    return conductor_leaf(ctx, name, ax, ay, _perfect_conductor(ctx), -1, reflectance=_refl(ctx, owner, colour))
+
+
+RGB_WAVELENGTHS_NM = (465.0, 532.0, 630.0)  # where a per-channel (B, G, R) index is placed on the spectrum
+
+
+def _metallic(ctx, owner, node):
+    """Metallic BSDF: F82 (base colour, edge tint) → fitted η, κ; physical conductor → its RGB η, κ
+    interpolated over the spectrum (B at 465, G at 532, R at 630 nm, held beyond)."""
+    import numpy as np
+
+    from ...core import wavelength_grid
+
+    ax, ay = glossy_alpha(input_value(ctx, owner, node, ("Roughness",), "value"),
+                          input_value(ctx, owner, node, ("Anisotropy",), "value") or 0.0)
+    ignored_links(ctx, owner, node, ("Normal", "Tangent"))
+    if (input_value(ctx, owner, node, ("Thin Film Thickness",), "value") or 0.0) > 0.0:
+        ctx.skip("shader inputs", f"{owner}/{node.name}: thin film (ignored)")
+    name = f"{owner}: {node.name}"
+    if getattr(node, "fresnel_type", "F82") == "PHYSICAL_CONDUCTOR":
+        eta_rgb = [max(float(v), 0.0) for v in node.inputs["IOR"].default_value]
+        kappa_rgb = [max(float(v), 0.0) for v in node.inputs["Extinction"].default_value]
+        for sock in ("IOR", "Extinction"):
+            if node.inputs[sock].is_linked:
+                ctx.note(f"{owner}: '{node.name}' input '{sock}' is linked, used its unlinked value")
+        key = f"RGB conductor η={tuple(eta_rgb)!r} κ={tuple(kappa_rgb)!r}"
+        wl = wavelength_grid()
+        eta = ctx.ior_table(key + " η", np.interp(wl, RGB_WAVELENGTHS_NM, eta_rgb[::-1]))
+        kappa = ctx.ior_table(key + " κ", np.interp(wl, RGB_WAVELENGTHS_NM, kappa_rgb[::-1]))
+        ctx.note(f"{owner}: '{node.name}' RGB η, κ interpolated over wavelength")
+    else:
+        eta, kappa = _conductor_tables(ctx, input_value(ctx, owner, node, ("Base Color",), "colour"),
+                                       input_value(ctx, owner, node, ("Edge Tint",), "colour"))
+    return conductor_leaf(ctx, name, ax, ay, eta, kappa)
+
+
+def _glass(ctx, owner, node, reflect=True):
+    colour = input_value(ctx, owner, node, ("Color",), "colour")
+    r = input_value(ctx, owner, node, ("Roughness",), "value")
+    a = min(max(r, 0.0), 1.0) ** 2
+    ior = _ior(ctx, owner, input_value(ctx, owner, node, ("IOR",), "value"))
+    if a > 0.0 and getattr(node, "distribution", "GGX") not in GGX_DISTRIBUTIONS:
+        ctx.note(f"{owner}: '{node.name}' distribution {node.distribution} rendered as GGX")
+    ignored_links(ctx, owner, node, ("Normal",))
+    if (input_value(ctx, owner, node, ("Thin Film Thickness",), "value") or 0.0) > 0.0:
+        ctx.skip("shader inputs", f"{owner}/{node.name}: thin film (ignored)")
+    tint = _refl(ctx, owner, colour)
+    if not reflect:
+        ctx.note(f"{owner}: '{node.name}' (Refraction BSDF) rendered as a dielectric without its reflection")
+    return dielectric_leaf(ctx, f"{owner}: {node.name}", a, a, ior=ior, transmission=tint,
+                           reflection=tint if reflect else _refl(ctx, "black", BLACK))
+
+
+def _shader(ctx, owner, node, depth=0):
+    """(tree, emissions) of the shader produced by ``node`` (None: black, nothing emitted)."""
+    from ...core import constants, lambert_params
+
+    if node is None:
+        return None, []
+    kind = node.type
+    if depth >= MIX_DEPTH - 2 and kind in ("MIX_SHADER", "ADD_SHADER"):
+        ctx.skip("shader mixes nested too deeply", f"{owner}/{node.name}")
+        return None, []
+    if kind == "MIX_SHADER":
+        fac = constant_input(ctx, owner, node, "Factor", 0.5)
+        w = mix_first_weight(0.5 if fac is None else fac)
+        a, b = shader_inputs(node)
+        ta, ea = _shader(ctx, owner, a, depth + 1) if w > 0.0 else (None, [])
+        tb, eb = _shader(ctx, owner, b, depth + 1) if w < 1.0 else (None, [])
+        if ta is None and tb is not None and 0.0 < w < 1.0:
+            ta = _emit_black_leaf(owner)
+        elif tb is None and ta is not None and 0.0 < w < 1.0:
+            tb = _emit_black_leaf(owner)
+        return _mix(w, ta, tb), _scaled(ea, w) + _scaled(eb, 1.0 - w)
+    if kind == "ADD_SHADER":
+        a, b = shader_inputs(node)
+        ta, ea = _shader(ctx, owner, a, depth + 1)
+        tb, eb = _shader(ctx, owner, b, depth + 1)
+        return _add(ta, tb), ea + eb
+    if kind == "BSDF_PRINCIPLED":
+        return _principled(ctx, owner, node)
+    if kind == "BSDF_DIFFUSE":
+        colour = input_value(ctx, owner, node, ("Color",), "colour")
+        if (input_value(ctx, owner, node, ("Roughness",), "value") or 0.0) > 0.0:
+            ctx.note(f"{owner}: '{node.name}' roughness ignored (Lambert)")
+        ignored_links(ctx, owner, node, ("Normal",))
+        return _leaf(name=f"{owner}: {node.name}", model=constants.MAT_LAMBERT, params=lambert_params(),
+                     reflectance=_refl(ctx, owner, colour)), []
+    if kind == "BSDF_GLOSSY":
+        return _glossy(ctx, owner, node), []
+    if kind == "BSDF_METALLIC":
+        return _metallic(ctx, owner, node), []
+    if kind == "BSDF_GLASS":
+        return _glass(ctx, owner, node), []
+    if kind == "BSDF_REFRACTION":
+        return _glass(ctx, owner, node, reflect=False), []
+    if kind == "BSDF_TRANSPARENT":
+        colour = input_value(ctx, owner, node, ("Color",), "colour")
+        return _transparent(ctx, f"{owner}: {node.name}", colour), []
+    if kind == "EMISSION":
+        colour = input_value(ctx, owner, node, ("Color",), "colour")
+        strength = input_value(ctx, owner, node, ("Strength",), "value")
+        return None, [(colour, strength)]
+    # Unsupported shader: listed in the warning; its colour (if any) stands in as a diffuse colour.
+    ctx.skip("shader nodes", f"{owner}/{node.name}")
+    colour = node_colour(ctx, owner, node, fallback=None)
+    if colour is None:
+        from .context import DEFAULT_GREY
+        colour = DEFAULT_GREY
+    return _leaf(name=f"{owner}: {node.name}", model=constants.MAT_LAMBERT, params=lambert_params(),
+                 reflectance=_refl(ctx, owner, colour)), []
+
+
+def _emit_black_leaf(owner):
+    from ...core import Material, constants, lambert_params
+
+    return ("leaf", Material(name=f"{owner}: black", model=constants.MAT_LAMBERT, params=lambert_params()))
+
+
+def node_colour(ctx, owner, node, fallback=(0.8, 0.8, 0.8)):
+    """The main colour of a shader node (Base Color / Color), following a mix's first shader input."""
+    seen = 0
+    while node is not None and node.type in ("MIX_SHADER", "ADD_SHADER") and seen < 16:
+        a, b = shader_inputs(node)
+        node = a if a is not None else b
+        seen += 1
+    if node is None:
+        return fallback
+    for inp in COLOUR_INPUTS:
+        sock = node.inputs.get(inp)
+        if sock is not None and sock.type == "RGBA":
+            return input_value(ctx, owner, node, (inp,), "colour")
+    return fallback
+
+
+def _emission_fields(ctx, name, emissions):
     from ...core import emission_luminance
 
+    rgb, strength = combine_emission(emissions)
     if not strength > 0.0 or not max(rgb) > 0.0:
         return -1, 0.0
     return ctx.emission(f"{name} emission", rgb), float(emission_luminance(rgb, strength))
 
 
+# ----------------------------------------------------------------------------- the material
+
+
 def build_material(ctx, mat):
+    """The root core Material of Blender material ``mat`` (its mix components are added to ctx first)."""
     from ...core import Material
 
     name = mat.name
     tree = mat.node_tree
     output = active_output(tree, "ShaderNodeOutputMaterial")
+    # the original datablock's settings: edits of add-on properties need not re-evaluate the depsgraph
+    settings = getattr(getattr(mat, "original", None) or mat, "spectral_gi", None)
+    override = settings is not None and settings.model != "AUTO"
     if output is None:
         # No node tree (or no output): Blender's viewport colour stands in.
-        return Material(name=name, reflectance=ctx.reflectance(name, rgb_of(mat.diffuse_color)))
+        if override:
+            return _finish(ctx, name, override_tree(ctx, mat, settings, None), [])
+        return Material(name=name, reflectance=_refl(ctx, name, rgb_of(mat.diffuse_color)))
     node = surface_node(output)
-    if node is None:
+    if node is None and not override:
         return Material(name=name)  # an unconnected output renders black
-    kind = node.type
-    if kind == "BSDF_PRINCIPLED":
-        base = input_value(ctx, name, node, ("Base Color",), "colour")
-        refl = ctx.reflectance(name, base)
-        e_rgb = input_value(ctx, name, node, ("Emission Color", "Emission"), "colour") or (0.0, 0.0, 0.0)
-        e_strength = input_value(ctx, name, node, ("Emission Strength",), "value")
-        e_strength = 1.0 if e_strength is None else e_strength
-        spec, lum = _emission(ctx, name, e_rgb, e_strength)
-        for inp in ("Metallic", "Transmission Weight"):
-            v = input_value(ctx, name, node, (inp,), "value")
-            if v is not None and v > 0.0:
-                ctx.note(f"{name}: {inp} ignored (rendered as diffuse)")
-        return Material(name=name, reflectance=refl, emission=spec, emission_luminance=lum)
-    if kind == "BSDF_DIFFUSE":
-        colour = input_value(ctx, name, node, ("Color",), "colour")
-        return Material(name=name, reflectance=ctx.reflectance(name, colour))
-    if kind == "EMISSION":
-        colour = input_value(ctx, name, node, ("Color",), "colour")
-        strength = input_value(ctx, name, node, ("Strength",), "value")
-        spec, lum = _emission(ctx, name, colour, strength)
-        return Material(name=name, emission=spec, emission_luminance=lum)
-    # Unsupported shader: listed in the warning; its colour (if any) stands in as a diffuse colour.
-    ctx.skip("shader nodes", f"{name}/{node.name}")
-    colour = None
-    for inp in COLOUR_INPUTS:
-        if node.inputs.get(inp) is not None and node.inputs[inp].type == "RGBA":
-            colour = input_value(ctx, name, node, (inp,), "colour")
-            break
+    if override:
+        return _finish(ctx, name, override_tree(ctx, mat, settings, node), emission_terms(ctx, name, node))
+    bsdf, emissions = _shader(ctx, name, node)
+    return _finish(ctx, name, bsdf, emissions)
+
+
+def emission_terms(ctx, owner, node, depth=0):
+    """The weighted emitters ``[(rgb, strength), ...]`` of the shader ``node`` (BSDFs are not read)."""
+    if node is None or depth > 2 * MIX_DEPTH:
+        return []
+    if node.type == "MIX_SHADER":
+        fac = constant_input(ctx, owner, node, "Factor", 0.5)
+        w = mix_first_weight(0.5 if fac is None else fac)
+        a, b = shader_inputs(node)
+        return (_scaled(emission_terms(ctx, owner, a, depth + 1), w)
+                + _scaled(emission_terms(ctx, owner, b, depth + 1), 1.0 - w))
+    if node.type == "ADD_SHADER":
+        a, b = shader_inputs(node)
+        return emission_terms(ctx, owner, a, depth + 1) + emission_terms(ctx, owner, b, depth + 1)
+    if node.type == "EMISSION":
+        return [(input_value(ctx, owner, node, ("Color",), "colour"),
+                 input_value(ctx, owner, node, ("Strength",), "value"))]
+    if node.type == "BSDF_PRINCIPLED":
+        return [(input_value(ctx, owner, node, ("Emission Color",), "colour"),
+                 input_value(ctx, owner, node, ("Emission Strength",), "value"))]
+    return []
+
+
+def _finish(ctx, name, bsdf, emissions):
+    if _depth(bsdf) > MIX_DEPTH:
+        ctx.skip("shader mixes nested too deeply", name)
+        bsdf = None
+    root = _emit_tree(ctx, name, bsdf)
+    root.name = name
+    root.emission, root.emission_luminance = _emission_fields(ctx, name, emissions)
+    return root
+
+
+# ----------------------------------------------------------------------------- the panel's override
+
+
+def _spectrum_colour(ctx, mat, settings, node):
+    """Reflectance spectrum index of the override: the node colour uplifted, or a ColorChecker patch."""
+    if settings.spectrum == "PRESET":
+        return _preset_reflectance(ctx, settings.reflectance_preset)
+    colour = node_colour(ctx, mat.name, node, fallback=None) if node is not None else None
     if colour is None:
-        from .context import DEFAULT_GREY
-        colour = DEFAULT_GREY
-    return Material(name=name, reflectance=ctx.reflectance(name, colour))
+        colour = rgb_of(mat.diffuse_color)
+    return _refl(ctx, mat.name, colour)
+
+
+def override_tree(ctx, mat, settings, node):
+    """The BSDF tree chosen in the material panel (``mat.spectral_gi``)."""
+    from ...core import (blinn_phong_params, constants, lafortune_params, lambert_params, mirror_params,
+                         phong_params, ward_params)
+
+    name = f"{mat.name}: {settings.model.lower()}"
+    two = bool(settings.two_sided)
+    model = settings.model
+    if model in ("LAMBERT", "PHONG", "BLINN_PHONG", "WARD", "LAFORTUNE", "MIRROR"):
+        ra = _spectrum_colour(ctx, mat, settings, node)
+        spec = _tint(ctx, f"{mat.name} specular", tuple(settings.specular_color))
+        if spec == -1:
+            spec = _refl(ctx, "white", WHITE)
+        if model == "LAMBERT":
+            return _leaf(name=name, model=constants.MAT_LAMBERT, params=lambert_params(two), reflectance=ra)
+        if model == "MIRROR":
+            return _leaf(name=name, model=constants.MAT_MIRROR, params=mirror_params(two), reflectance=ra)
+        if model == "PHONG":
+            return _leaf(name=name, model=constants.MAT_PHONG, params=phong_params(settings.exponent, two),
+                         reflectance=ra, specular=spec)
+        if model == "BLINN_PHONG":
+            return _leaf(name=name, model=constants.MAT_BLINN_PHONG,
+                         params=blinn_phong_params(settings.exponent, two), reflectance=ra, specular=spec)
+        if model == "WARD":
+            return _leaf(name=name, model=constants.MAT_WARD,
+                         params=ward_params(settings.alpha_x, settings.alpha_y, settings.ward_variant.lower(), two),
+                         reflectance=ra, specular=spec)
+        lobes = [tuple(getattr(settings, f"lobe_{k}")) for k in range(1, settings.lobe_count + 1)]
+        return _leaf(name=name, model=constants.MAT_LAFORTUNE, params=lafortune_params(lobes, two),
+                     reflectance=ra, specular=spec)
+    ax, ay = float(settings.alpha_x), float(settings.alpha_y)
+    if model == "CONDUCTOR":
+        if settings.spectrum == "PRESET":
+            eta, kappa = _metal_tables(ctx, settings.metal_preset)
+        else:
+            colour = node_colour(ctx, mat.name, node, fallback=None) if node is not None else None
+            eta, kappa = _conductor_tables(ctx, colour or rgb_of(mat.diffuse_color), WHITE)
+        return conductor_leaf(ctx, name, ax, ay, eta, kappa, two_sided=two)
+    if model == "GLASS":
+        if settings.spectrum == "PRESET":
+            return dielectric_leaf(ctx, name, ax, ay, eta_table=_glass_table(ctx, settings.glass_preset))
+        ior = 1.5
+        tint = None
+        if node is not None:
+            v = input_value(ctx, mat.name, node, ("IOR",), "value")
+            ior = _ior(ctx, mat.name, v) if v is not None else 1.5
+            colour = node_colour(ctx, mat.name, node, fallback=None)
+            tint = _refl(ctx, mat.name, colour) if colour is not None else None
+        return dielectric_leaf(ctx, name, ax, ay, ior=ior, transmission=tint, reflection=tint if tint is not None
+                               else -1)
+    raise ValueError(f"unknown Spectral GI material model {model!r}")

@@ -68,3 +68,34 @@ def input_value(ctx, owner, node, names, kind):
     if kind == "colour":
         return rgb_of(value)
     return float(value)
+
+
+def shader_inputs(node):
+    """The nodes feeding a Mix/Add Shader's two shader inputs, in order (None for an unlinked one)."""
+    socks = [s for s in node.inputs if s.type == "SHADER"]
+    return [linked_node(s) for s in socks[:2]] + [None] * (2 - len(socks[:2]))
+
+
+def constant_input(ctx, owner, node, name, fallback):
+    """A value input used only as a constant: its own value, or a Value node's; anything else
+    driving it is noted in the warning and ``fallback`` is used. None if there is no such input."""
+    sock = node.inputs.get(name)
+    if sock is None:
+        return None
+    if not sock.is_linked:
+        return float(sock.default_value)
+    src = linked_node(sock)
+    if src is None:  # a muted or invalid link: Blender uses the socket's value
+        return float(sock.default_value)
+    if src.type == "VALUE":
+        return float(src.outputs[0].default_value)
+    ctx.note(f"{owner}: '{node.name}' input '{sock.name}' is driven by '{src.name}', used {fallback:g}")
+    return float(fallback)
+
+
+def ignored_links(ctx, owner, node, names):
+    """Note the inputs among ``names`` that are linked (e.g. Normal, Tangent): they are ignored."""
+    for name in names:
+        sock = node.inputs.get(name)
+        if sock is not None and sock.is_linked and linked_node(sock) is not None:
+            ctx.note(f"{owner}: '{node.name}' input '{name}' ignored")

@@ -1,4 +1,4 @@
 """Operators."""
-from . import cornell, render
+from . import compare, cornell, render
 
-classes = (render.SPECTRALGI_OT_render, cornell.SPECTRALGI_OT_add_cornell_box)
+classes = (render.SPECTRALGI_OT_render, cornell.SPECTRALGI_OT_add_cornell_box, compare.SPECTRALGI_OT_compare_cycles)

@@ -1,6 +1,23 @@
-"""Scene settings: ``bpy.types.Scene.spectral_gi``."""
+"""Scene settings (``bpy.types.Scene.spectral_gi``) and render passes (``bpy.types.ViewLayer.spectral_gi``)."""
 import bpy
-from bpy.props import IntProperty
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
+
+SAMPLERS = (
+    ("INDEPENDENT", "Independent", "Independent uniform random numbers per dimension (unbiased, slowest to converge)"),
+    ("HALTON", "Halton", "Scrambled Halton sequence (quasi-Monte Carlo): less noise at the same samples"),
+    ("HAMMERSLEY", "Hammersley", "Scrambled Hammersley points (quasi-Monte Carlo) for a fixed sample count"),
+)
+FILTERS = (
+    ("BLACKMAN_HARRIS", "Blackman-Harris", "Blackman-Harris pixel filter (Cycles' default)"),
+    ("GAUSSIAN", "Gaussian", "Gaussian pixel filter"),
+    ("BOX", "Box", "Box pixel filter: each sample counts only in its own pixel"),
+)
+WHITE_BALANCE = (
+    ("NONE", "None", "RGB is the spectrum's colour seen under a D65-adapted eye (Blender's convention)"),
+    ("LIGHT", "Brightest Light",
+     "Adapt the RGB output (Combined pass) from the brightest light's white to D65 (Bradford), as a camera's "
+     "white balance would. XYZ, Luminance and Lab are never adapted"),
+)
 
 
 class SpectralGISceneSettings(bpy.types.PropertyGroup):
@@ -16,7 +33,7 @@ class SpectralGISceneSettings(bpy.types.PropertyGroup):
         name="Max Bounces",
         description="Maximum number of scattering events on a path (a count). Russian roulette "
                     "ends most paths earlier without bias; this is only a hard limit",
-        default=16, min=1, max=1024,
+        default=16, min=0, max=1024,
     )
     seed: IntProperty(
         name="Seed",
@@ -24,22 +41,116 @@ class SpectralGISceneSettings(bpy.types.PropertyGroup):
                     "same image, whatever the number of threads",
         default=0, min=0, max=2**31 - 1,
     )
+    use_animated_seed: BoolProperty(
+        name="Animate Seed",
+        description="Add the frame number to the seed, so the noise differs from frame to frame",
+        default=False,
+    )
     threads: IntProperty(
         name="Threads",
         description="CPU threads used for rendering (a count); 0 uses all cores",
         default=0, min=0, max=1024,
     )
+    sampler: EnumProperty(
+        name="Sampler", items=SAMPLERS, default="INDEPENDENT",
+        description="How the random numbers of the samples are drawn (no unit)",
+    )
+    pixel_filter: EnumProperty(
+        name="Pixel Filter", items=FILTERS, default="BLACKMAN_HARRIS",
+        description="Reconstruction filter spreading every sample over nearby pixels",
+    )
+    filter_width: FloatProperty(
+        name="Filter Width",
+        description="Width of the pixel filter in pixels (Cycles' default 1.5 px)",
+        default=1.5, min=0.01, soft_max=10.0, max=100.0, subtype="PIXEL",
+    )
+    time_limit: FloatProperty(
+        name="Time Limit",
+        description="Stop after this many seconds of rendering (0: no limit); the image keeps the "
+                    "samples done so far",
+        default=0.0, min=0.0, soft_max=3600.0, subtype="TIME_ABSOLUTE", unit="TIME_ABSOLUTE",
+    )
+    noise_target: FloatProperty(
+        name="Noise Target",
+        description="Stop once the relative standard error of the image's luminance is below this "
+                    "fraction (0: off; 0.01 = 1 %)",
+        default=0.0, min=0.0, max=1.0, soft_max=0.1, precision=4,
+    )
+    white_balance: EnumProperty(
+        name="White Balance", items=WHITE_BALANCE, default="NONE",
+        description="White balance of the Combined (RGB) pass",
+    )
+
+    # ------------------------------------------------------------------ Cycles comparison (last result)
+    compare_output_dir: StringProperty(
+        name="Comparison Folder",
+        description="Folder for the comparison's report (JSON) and images (EXR); empty: beside the "
+                    ".blend file, or the temporary folder for an unsaved file",
+        default="", subtype="DIR_PATH",
+    )
+    compare_valid: BoolProperty(name="Comparison Available", default=False,
+                                description="True once a Cycles comparison has run in this session")
+    compare_luminance_ratio: FloatProperty(
+        name="Luminance Ratio", default=0.0, precision=4,
+        description="Mean luminance of Spectral GI over Cycles' (no unit; 1 = equal)")
+    compare_relative_rmse: FloatProperty(
+        name="Relative RMSE", default=0.0, precision=4,
+        description="Root-mean-square luminance difference over Cycles' mean luminance (no unit)")
+    compare_delta_e_mean: FloatProperty(
+        name="Mean ΔE00", default=0.0, precision=3,
+        description="Mean CIEDE2000 colour difference per pixel (ΔE00 units; about 1 is just noticeable)")
+    compare_delta_e_p95: FloatProperty(
+        name="95th Percentile ΔE00", default=0.0, precision=3,
+        description="95th percentile of the per-pixel CIEDE2000 difference (ΔE00 units)")
+    compare_report_path: StringProperty(
+        name="Report", default="", subtype="FILE_PATH",
+        description="JSON file of the last comparison")
 
 
-classes = (SpectralGISceneSettings,)
+PASSES = (
+    # property, pass name, channels, channel ids, type, description
+    ("use_pass_xyz", "XYZ", 3, "XYZ", "COLOR",
+     "CIE 1931 XYZ on Blender's scale (Y = 1 is 683 cd/m²)"),
+    ("use_pass_luminance", "Luminance", 1, "Y", "VALUE", "Absolute luminance in cd/m²"),
+    ("use_pass_lab", "Lab", 3, "LAB", "COLOR",
+     "CIE L*a*b* against a D65 white of 683 cd/m² (Blender's RGB 1 is L* = 100)"),
+    ("use_pass_variance", "Variance", 1, "V", "VALUE",
+     "Variance of each pixel's mean luminance, (cd/m²)²: the noise left in the Luminance pass"),
+    ("use_pass_albedo", "Albedo", 3, "RGB", "COLOR",
+     "Linear Rec.709 reflectance of the first surface hit (no unit, 0 to 1)"),
+    ("use_pass_normal", "Normal", 3, "XYZ", "VECTOR", "World-space shading normal of the first surface hit"),
+    ("use_pass_depth", "Depth", 1, "Z", "VALUE", "Distance along the camera ray to the first hit, in metres"),
+)
+
+
+def _pass_props():
+    ns = {}
+    for prop, name, _n, _chan, _type, desc in PASSES:
+        ns[prop] = BoolProperty(name=name, description=desc + " (Spectral GI pass)",
+                                default=prop in ("use_pass_luminance",))
+    return ns
+
+
+SpectralGIViewLayerSettings = type(
+    "SpectralGIViewLayerSettings", (bpy.types.PropertyGroup,),
+    {"__doc__": "Render passes of the Spectral GI engine, per view layer.",
+     "__annotations__": _pass_props()})
+
+
+classes = (SpectralGISceneSettings, SpectralGIViewLayerSettings)
 
 
 def register_properties():
     bpy.types.Scene.spectral_gi = bpy.props.PointerProperty(
         type=SpectralGISceneSettings, name="Spectral GI",
         description="Settings of the Spectral GI renderer (samples, bounces, seed, threads)")
+    bpy.types.ViewLayer.spectral_gi = bpy.props.PointerProperty(
+        type=SpectralGIViewLayerSettings, name="Spectral GI",
+        description="Render passes of the Spectral GI renderer")
 
 
 def unregister_properties():
+    if hasattr(bpy.types.ViewLayer, "spectral_gi"):
+        del bpy.types.ViewLayer.spectral_gi
     if hasattr(bpy.types.Scene, "spectral_gi"):
         del bpy.types.Scene.spectral_gi

@@ -1,8 +1,15 @@
-"""Properties > Render: the Spectral GI panel (shown whatever the render engine)."""
+"""Properties > Render and View Layer: the Spectral GI panels.
+
+``SPECTRALGI_PT_render`` is shown whatever the render engine (the Render GI button works
+with any engine selected); the settings panels follow Blender's COMPAT_ENGINES pattern
+and appear when the render engine is Spectral GI.
+"""
 import bpy
 
 from .. import render_job
 from ..export.convert import render_resolution
+
+ENGINE = "SPECTRAL_GI"
 
 
 class SPECTRALGI_PT_render(bpy.types.Panel):
@@ -17,6 +24,7 @@ class SPECTRALGI_PT_render(bpy.types.Panel):
         settings = getattr(context.scene, "spectral_gi", None)
         state = render_job.STATE
         running = render_job.busy()
+        is_engine = context.scene.render.engine == ENGINE
 
         row = layout.row(align=True)
         row.scale_y = 1.4
@@ -35,7 +43,8 @@ class SPECTRALGI_PT_render(bpy.types.Panel):
         elif state.message:
             layout.label(text=state.message, icon="INFO")
 
-        if settings is not None:
+        if settings is not None and not is_engine:
+            # with Spectral GI as the render engine, the Sampling panel below shows these
             col = layout.column()
             col.use_property_split = True
             col.use_property_decorate = False
@@ -47,7 +56,92 @@ class SPECTRALGI_PT_render(bpy.types.Panel):
             r = context.scene.render
             w, h = render_resolution(r.resolution_x, r.resolution_y, r.resolution_percentage)
             col.label(text=f"Resolution: {w} × {h} px (Output properties)")
+
+        row = layout.row()
+        row.enabled = not running
+        row.operator("spectral_gi.compare_cycles", text="Compare with Cycles", icon="IMAGE_REFERENCE")
+        if settings is not None and getattr(settings, "compare_valid", False):
+            box = layout.box()
+            box.label(text="Spectral GI vs Cycles", icon="GRAPH")
+            box.label(text=f"Mean luminance ratio: {settings.compare_luminance_ratio:.4f}")
+            box.label(text=f"Relative RMSE (luminance): {settings.compare_relative_rmse:.4f}")
+            box.label(text=f"ΔE00 mean {settings.compare_delta_e_mean:.2f}, "
+                           f"95th percentile {settings.compare_delta_e_p95:.2f}")
+            if settings.compare_report_path:
+                box.label(text=f"Report: {bpy.path.basename(settings.compare_report_path)}", icon="FILE")
         layout.operator("spectral_gi.add_cornell_box", icon="MESH_CUBE")
 
 
-classes = (SPECTRALGI_PT_render,)
+class SpectralGIEnginePanel:
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "render"
+    COMPAT_ENGINES = {ENGINE}
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine in cls.COMPAT_ENGINES and getattr(context.scene, "spectral_gi", None) is not None
+
+
+class SPECTRALGI_PT_sampling(SpectralGIEnginePanel, bpy.types.Panel):
+    bl_idname = "SPECTRALGI_PT_sampling"
+    bl_label = "Sampling"
+
+    def draw(self, context):
+        s = context.scene.spectral_gi
+        col = self.layout.column()
+        col.use_property_split = True
+        col.use_property_decorate = False
+        col.prop(s, "samples")
+        col.prop(s, "max_bounces")
+        col.prop(s, "sampler")
+        row = col.row(align=True)
+        row.prop(s, "seed")
+        row.prop(s, "use_animated_seed", text="", icon="TIME")
+        col.separator()
+        col.prop(s, "time_limit")
+        col.prop(s, "noise_target")
+        col.prop(s, "threads")
+
+
+class SPECTRALGI_PT_film(SpectralGIEnginePanel, bpy.types.Panel):
+    bl_idname = "SPECTRALGI_PT_film"
+    bl_label = "Film"
+
+    def draw(self, context):
+        s = context.scene.spectral_gi
+        col = self.layout.column()
+        col.use_property_split = True
+        col.use_property_decorate = False
+        col.prop(s, "pixel_filter")
+        col.prop(s, "filter_width")
+        col.prop(s, "white_balance")
+        col.prop(context.scene.render, "film_transparent", text="Transparent")
+        col.label(text="Combined: linear Rec.709; RGB 1 = 683 cd/m²", icon="INFO")
+
+
+class SPECTRALGI_PT_passes(bpy.types.Panel):
+    bl_idname = "SPECTRALGI_PT_passes"
+    bl_label = "Spectral GI Passes"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "view_layer"
+    COMPAT_ENGINES = {ENGINE}
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine in cls.COMPAT_ENGINES and getattr(context.view_layer, "spectral_gi", None) is not None
+
+    def draw(self, context):
+        from ..properties.scene import PASSES
+
+        s = context.view_layer.spectral_gi
+        col = self.layout.column(heading="Include", align=True)
+        col.use_property_split = True
+        col.use_property_decorate = False
+        col.label(text="Combined (linear Rec.709 RGBA) is always written")
+        for prop, *_rest in PASSES:
+            col.prop(s, prop)
+
+
+classes = (SPECTRALGI_PT_render, SPECTRALGI_PT_sampling, SPECTRALGI_PT_film, SPECTRALGI_PT_passes)

@@ -323,38 +323,26 @@ def pick(cdf, n, u):
 
 
 @function
-def nee(px, py, pz, dx, dy, dz, g, qx, qy, qz, lnx, lny, lnz, l_area, l_two, l_row, l_scale, prob,
-        medium, outer, lam, beta, rad, spec, mw, bmin, bmax, child, count, axis, v0, e1, e2,
-        tri_mat, mat_model, mat_medium, med_tab, eps, stack):
-    """Light sampling at a scattering point: the sampled emitter point q (normal ln, area,
-    two-sided, spectrum row, scale, selection probability), HG phase, analytic
-    transmittance through media and null surfaces, power heuristic against phase sampling."""
-    wx = qx - px
-    wy = qy - py
-    wz = qz - pz
-    d2 = wx * wx + wy * wy + wz * wz
-    dist = math.sqrt(d2)
-    if dist <= 0.0:
-        return
-    wx /= dist
-    wy /= dist
-    wz /= dist
-    cos_y = -(lnx * wx + lny * wy + lnz * wz)
-    if cos_y < 0.0 and l_two:
-        cos_y = -cos_y
-    if cos_y <= 0.0:
+def nee(px, py, pz, dx, dy, dz, g, wx, wy, wz, dist, lpdf, fac, l_row, l_scale, pe, medium, outer, lam, beta, rad,
+        spec, mw, bmin, bmax, child, count, axis, v0, e1, e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack):
+    """Light sampling at a scattering point: an emitter sample (unit direction w, distance,
+    solid-angle pdf — inf for a delta light —, factor, spectrum row and scale, selection
+    probability pe), HG phase, analytic transmittance through media and null surfaces,
+    power heuristic against phase sampling."""
+    if fac <= 0.0 or lpdf <= 0.0:
         return
     ph = hg_eval(g, dx * wx + dy * wy + dz * wz)
     if ph <= 0.0:
         return
-    pl = prob * d2 / (l_area * cos_y)
-    if not shadow(px, py, pz, wx, wy, wz, dist * (1.0 - 1e-4) - eps, medium, outer, lam, mw, bmin, bmax, child,
-                  count, axis, v0, e1, e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack):
+    tmax = dist * (1.0 - 1e-4) - eps if dist < np.inf else np.inf
+    if not shadow(px, py, pz, wx, wy, wz, tmax, medium, outer, lam, mw, bmin, bmax, child, count, axis,
+                  v0, e1, e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack):
         return
-    a = pl * pl
-    b = ph * ph
-    w = a / (a + b)
-    k = w * ph * l_scale / pl
+    if lpdf == np.inf:  # delta light: NEE only
+        k = ph * l_scale * fac / pe
+    else:
+        pl = pe * lpdf
+        k = pl * pl / (pl * pl + ph * ph) * ph * l_scale * fac / pl
     for i in range(NW):
         rad[i] += beta[i] * mw[MW_TR, i] * k * _interp(spec, l_row, lam[i])
 

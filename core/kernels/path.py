@@ -18,11 +18,14 @@ import math
 
 import numpy as np
 from .. import constants as C
-from ..jit import inline, kernel
+from ..jit import function, inline, kernel
 from ..bsdfs.dispatch import bsdf_eval, bsdf_flags, bsdf_sample
 from ..bsdfs.params import BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE, BSDF_GLOSSY
 from . import media
 from .bvh import STACK_SIZE, closest_hit
+from .lights import hit_light, sample_light, sun_hit
+from ..sampling.qmc import pixel_seed, qmc_sample
+from ..sampling.tags import RANDOMIZE_OWEN, SAMPLER_INDEPENDENT
 from .rng import path_key, uniform
 
 NW = C.N_WAVELENGTHS
@@ -51,6 +54,24 @@ CAM_HALF_H = 13
 CAM_OFF_X = 14
 CAM_OFF_Y = 15
 CAM_SIZE = 16
+
+
+@function
+def qmc_dimension(sampler, index, dim, pseed, n):
+    """Dimension ``dim`` of sample ``index`` of an Owen-scrambled Halton or Hammersley set
+    (of ``n`` points) randomised per pixel by ``pseed``. Compiled as a function of its own:
+    inlined at every call site of the path kernel it would multiply its compile time."""
+    return qmc_sample(sampler, RANDOMIZE_OWEN, index, dim, pseed, n)
+
+
+@inline
+def rnd(sampler, key, pseed, index, dim, n):
+    """The path's sample in dimension ``dim``: the counter RNG for the independent sampler,
+    else the low-discrepancy point (whose dimensions past the prime table fall back to a
+    hash of (pixel seed, index, dimension), as pbrt's samplers do)."""
+    if sampler == SAMPLER_INDEPENDENT:
+        return uniform(key, dim)
+    return qmc_dimension(sampler, index, dim, pseed, n)
 
 
 @inline
@@ -108,68 +129,33 @@ def power_heuristic(pa, pb):
 
 
 @inline
-def intersect_light(kind, px, py, pz, ux, uy, uz, vx, vy, vz, nx, ny, nz, ox, oy, oz, dx, dy, dz, tmax):
-    """Ray against a rectangle (|a|,|b| ≤ 1) or ellipse (a² + b² ≤ 1) spanned by half-axes u, v.
-
-    Returns (t, cos) with cos = dot(d, n); t = inf on a miss.
-    """
-    den = dx * nx + dy * ny + dz * nz
-    if den == 0.0:
-        return np.inf, 0.0
-    t = ((px - ox) * nx + (py - oy) * ny + (pz - oz) * nz) / den
-    if t <= 0.0 or t >= tmax:
-        return np.inf, 0.0
-    hx = ox + t * dx - px
-    hy = oy + t * dy - py
-    hz = oz + t * dz - pz
-    uu = ux * ux + uy * uy + uz * uz
-    vv = vx * vx + vy * vy + vz * vz
-    a = (hx * ux + hy * uy + hz * uz) / uu
-    b = (hx * vx + hy * vy + hz * vz) / vv
-    if kind == C.LIGHT_RECT:
-        if abs(a) > 1.0 or abs(b) > 1.0:
-            return np.inf, 0.0
-    else:
-        if a * a + b * b > 1.0:
-            return np.inf, 0.0
-    return t, den
-
-
-@inline
-def _emitter_sample(ei, ua, ub, emit_tri, emit_light, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale,
-                    mat_emis_two, light_kind, light_geo, light_spec, light_scale, light_two_sided):
-    """A point on emitter ``ei``: (x, y, z, normal x, y, z, area, two-sided, spectrum row, scale, ok)."""
-    if emit_tri[ei] >= 0:
-        tp = emit_tri[ei]
-        su = math.sqrt(ua)
-        b1 = 1.0 - su
-        b2 = ub * su
-        qx = v0[tp, 0] + b1 * e1[tp, 0] + b2 * e2[tp, 0]
-        qy = v0[tp, 1] + b1 * e1[tp, 1] + b2 * e2[tp, 1]
-        qz = v0[tp, 2] + b1 * e1[tp, 2] + b2 * e2[tp, 2]
-        lnx = e1[tp, 1] * e2[tp, 2] - e1[tp, 2] * e2[tp, 1]
-        lny = e1[tp, 2] * e2[tp, 0] - e1[tp, 0] * e2[tp, 2]
-        lnz = e1[tp, 0] * e2[tp, 1] - e1[tp, 1] * e2[tp, 0]
-        ll = math.sqrt(lnx * lnx + lny * lny + lnz * lnz)
-        if ll == 0.0:
-            return qx, qy, qz, 0.0, 0.0, 1.0, 1.0, False, 0, 0.0, False
-        lm = tri_mat[tp]
-        return (qx, qy, qz, lnx / ll, lny / ll, lnz / ll, 0.5 * ll, mat_emis_two[lm] != 0, mat_emis[lm],
-                mat_emis_scale[lm], True)
-    li = emit_light[ei]
-    if light_kind[li] == C.LIGHT_RECT:
-        a = 2.0 * ua - 1.0
-        b = 2.0 * ub - 1.0
-    else:
-        r = math.sqrt(ua)
-        ph = 2.0 * math.pi * ub
-        a = r * math.cos(ph)
-        b = r * math.sin(ph)
-    qx = light_geo[li, 0] + a * light_geo[li, 3] + b * light_geo[li, 6]
-    qy = light_geo[li, 1] + a * light_geo[li, 4] + b * light_geo[li, 7]
-    qz = light_geo[li, 2] + a * light_geo[li, 5] + b * light_geo[li, 8]
-    return (qx, qy, qz, light_geo[li, 9], light_geo[li, 10], light_geo[li, 11], light_geo[li, 12],
-            light_two_sided[li] != 0, light_spec[li], light_scale[li], True)
+def _triangle_sample(tp, ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale, mat_emis_two):
+    """A point on emissive triangle ``tp`` seen from p: (wx, wy, wz, dist, solid-angle pdf,
+    fac, spectrum row, scale); fac = 0 when the point shows p its back or nothing."""
+    su = math.sqrt(ua)
+    b1 = 1.0 - su
+    b2 = ub * su
+    wx = v0[tp, 0] + b1 * e1[tp, 0] + b2 * e2[tp, 0] - px
+    wy = v0[tp, 1] + b1 * e1[tp, 1] + b2 * e2[tp, 1] - py
+    wz = v0[tp, 2] + b1 * e1[tp, 2] + b2 * e2[tp, 2] - pz
+    lnx = e1[tp, 1] * e2[tp, 2] - e1[tp, 2] * e2[tp, 1]
+    lny = e1[tp, 2] * e2[tp, 0] - e1[tp, 0] * e2[tp, 2]
+    lnz = e1[tp, 0] * e2[tp, 1] - e1[tp, 1] * e2[tp, 0]
+    ll = math.sqrt(lnx * lnx + lny * lny + lnz * lnz)
+    d2 = wx * wx + wy * wy + wz * wz
+    dist = math.sqrt(d2)
+    lm = tri_mat[tp]
+    if ll == 0.0 or dist == 0.0:
+        return 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, mat_emis[lm], 0.0
+    wx /= dist
+    wy /= dist
+    wz /= dist
+    cos_y = -(lnx * wx + lny * wy + lnz * wz) / ll
+    if cos_y < 0.0 and mat_emis_two[lm] != 0:
+        cos_y = -cos_y
+    if cos_y <= 0.0:
+        return wx, wy, wz, dist, 0.0, 0.0, mat_emis[lm], 0.0
+    return wx, wy, wz, dist, d2 / (0.5 * ll * cos_y), 1.0, mat_emis[lm], mat_emis_scale[lm]
 
 
 @inline
@@ -189,7 +175,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 spec, cmf,
                 light_kind, light_geo, light_spec, light_scale, light_two_sided, light_visible,
                 emit_cdf, emit_prob, emit_tri, emit_light,
-                world_spec, world_scale, spectral, mat_medium, med_tab, med_g, cam_medium):
+                world_spec, world_scale, spectral, sampler, n_total, mat_medium, med_tab, med_g, cam_medium):
     """Add samples s0 .. s1-1 of every pixel of rows y0 .. y1-1 to ``film`` (H, W, 5) float64.
 
     A serial kernel that releases the GIL: the renderer runs blocks of rows on a pool of
@@ -201,10 +187,14 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
     inputs ra/rb (rows of ``spec``, -1: 0 / 1), η (row of ``ior_tab`` or the constant
     mat_ior) and κ (row of ``ior_tab`` or 0). MAT_MIX/MAT_ADD pick one component per hit.
 
+    sampler: SAMPLER_* tag (independent, Halton, Hammersley); n_total: the render's
+    total samples per pixel (Hammersley's n).
+
     spectral: (H, W, B) float64 sums of the spectral radiance averaged over B equal bins
     of [LMIN, LMAX] (W/(m² sr nm)); pass a (1, 1, 0) array to skip it.
 
-    light_geo: float64 (L, 13): centre(3), half-axis u(3), half-axis v(3), unit normal(3), area.
+    light_geo: float64 (L, lights.LG_SIZE), layout in core/kernels/lights.py; light_scale turns
+    a light's spectrum shape into its radiance (or intensity / illuminance for delta lights).
     emit_*: the emitter distribution over emissive triangles (emit_tri ≥ 0, leaf order)
     and analytic lights (emit_light ≥ 0); emit_cdf has E + 1 entries.
 
@@ -235,9 +225,10 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
         mw = np.empty((media.MW_ROWS, NW))
         for x in range(width):
             pix = y * width + x
+            pseed = pixel_seed(seed, pix)
             for s in range(s0, s1):
                 key = path_key(seed, pix, s)
-                u0 = uniform(key, 0)
+                u0 = rnd(sampler, key, pseed, s, 0, n_total)
                 for i in range(NW):
                     up = u0 + i / NW
                     if up >= 1.0:
@@ -247,8 +238,8 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     beta[i] = 1.0
                     rad[i] = 0.0
                 # camera ray
-                sx = ((x + uniform(key, 1)) / width * 2.0 - 1.0) * cam[CAM_HALF_W] + cam[CAM_OFF_X]
-                sy = (1.0 - (y + uniform(key, 2)) / height * 2.0) * cam[CAM_HALF_H] + cam[CAM_OFF_Y]
+                sx = ((x + rnd(sampler, key, pseed, s, 1, n_total)) / width * 2.0 - 1.0) * cam[CAM_HALF_W] + cam[CAM_OFF_X]
+                sy = (1.0 - (y + rnd(sampler, key, pseed, s, 2, n_total)) / height * 2.0) * cam[CAM_HALF_H] + cam[CAM_OFF_Y]
                 dx = cam[0] * sx + cam[1] * sy - cam[2]
                 dy = cam[3] * sx + cam[4] * sy - cam[5]
                 dz = cam[6] * sx + cam[7] * sy - cam[8]
@@ -274,30 +265,31 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                                                   bmin, bmax, child, count, axis, v0, e1, e2, stack)
                     t_end = t
                     if medium >= 0:
-                        t_end = min(t, t_lo + media.free_flight(medium, mw, uniform(key, dim)))
+                        t_end = min(t, t_lo + media.free_flight(medium, mw, rnd(sampler, key, pseed, s, dim, n_total)))
                         dim += 1
-                    # analytic area lights: hit for their emission, never occluders (as in Cycles)
+                    # analytic lights: hit for their emission, never occluders (as in Cycles)
                     for li in range(n_lights):
                         if depth == 0 and light_visible[li] == 0:
                             continue
-                        tl, cl = intersect_light(
-                            light_kind[li], light_geo[li, 0], light_geo[li, 1], light_geo[li, 2],
-                            light_geo[li, 3], light_geo[li, 4], light_geo[li, 5],
-                            light_geo[li, 6], light_geo[li, 7], light_geo[li, 8],
-                            light_geo[li, 9], light_geo[li, 10], light_geo[li, 11],
-                            ox, oy, oz, dx, dy, dz, t_end)
-                        if tl == np.inf or tl <= t_lo:
-                            continue
-                        if cl > 0.0 and light_two_sided[li] == 0:
+                        lk = light_kind[li]
+                        if lk == C.LIGHT_SUN:
+                            if prim >= 0 or t_end < t:
+                                continue
+                            fac, lpdf = sun_hit(light_geo, li, dx, dy, dz)
+                            tl = np.inf
+                        else:
+                            tl, fac, lpdf = hit_light(lk, light_geo, li, light_two_sided[li] != 0,
+                                                      ox, oy, oz, dx, dy, dz, t_end)
+                            if tl == np.inf or tl <= t_lo:
+                                continue
+                        if fac <= 0.0:
                             continue
                         w = 1.0
                         if not prev_delta:
-                            e_idx = n_emit - n_lights + li
-                            pl = emit_prob[e_idx] * tl * tl / (light_geo[li, 12] * abs(cl))
-                            w = power_heuristic(prev_pdf, pl)
+                            w = power_heuristic(prev_pdf, emit_prob[n_emit - n_lights + li] * lpdf)
                         media.arrival(medium, mw, tl - t_lo)
                         for i in range(NW):
-                            rad[i] += beta[i] * w * light_scale[li] * lookup(spec, light_spec[li], lam[i]) \
+                            rad[i] += beta[i] * w * fac * light_scale[li] * lookup(spec, light_spec[li], lam[i]) \
                                 * mw[media.MW_TR, i]
                     if medium >= 0:
                         if t_end < t:  # a scattering event in the medium
@@ -309,19 +301,27 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                             pz = oz + t_end * dz
                             g = med_g[medium]
                             if n_emit > 0:
-                                ei = media.pick(emit_cdf, n_emit, uniform(key, dim))
-                                qx, qy, qz, lnx, lny, lnz, l_area, l_two, l_row, l_scale, ok = _emitter_sample(
-                                    ei, uniform(key, dim + 1), uniform(key, dim + 2), emit_tri, emit_light, v0, e1,
-                                    e2, tri_mat, mat_emis, mat_emis_scale, mat_emis_two, light_kind, light_geo,
-                                    light_spec, light_scale, light_two_sided)
-                                if ok:
-                                    media.nee(px, py, pz, dx, dy, dz, g, qx, qy, qz, lnx, lny, lnz, l_area, l_two,
-                                              l_row, l_scale, emit_prob[ei], medium, outer, lam, beta, rad, spec, mw,
-                                              bmin, bmax, child, count, axis, v0, e1, e2, tri_mat, mat_model,
-                                              mat_medium, med_tab, eps, stack)
+                                ei = media.pick(emit_cdf, n_emit, rnd(sampler, key, pseed, s, dim, n_total))
+                                ua = rnd(sampler, key, pseed, s, dim + 1, n_total)
+                                ub = rnd(sampler, key, pseed, s, dim + 2, n_total)
+                                if emit_tri[ei] >= 0:
+                                    wx, wy, wz, dist, lpdf, fac, l_row, l_scale = _triangle_sample(
+                                        emit_tri[ei], ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis,
+                                        mat_emis_scale, mat_emis_two)
+                                else:
+                                    li = emit_light[ei]
+                                    wx, wy, wz, dist, lpdf, fac = sample_light(
+                                        light_kind[li], light_geo, li, light_two_sided[li] != 0, px, py, pz, ua, ub)
+                                    l_row = light_spec[li]
+                                    l_scale = light_scale[li]
+                                media.nee(px, py, pz, dx, dy, dz, g, wx, wy, wz, dist, lpdf, fac, l_row, l_scale,
+                                          emit_prob[ei], medium, outer, lam, beta, rad, spec, mw, bmin, bmax, child,
+                                          count, axis, v0, e1, e2, tri_mat, mat_model, mat_medium, med_tab, eps,
+                                          stack)
                             dim += 3
-                            dx, dy, dz, prev_pdf = media.hg_sample(g, dx, dy, dz, uniform(key, dim),
-                                                                   uniform(key, dim + 1))
+                            dx, dy, dz, prev_pdf = media.hg_sample(g, dx, dy, dz,
+                                                                   rnd(sampler, key, pseed, s, dim, n_total),
+                                                                   rnd(sampler, key, pseed, s, dim + 1, n_total))
                             dim += 2
                             prev_delta = False
                             ox = px
@@ -334,7 +334,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                                 break
                             if depth >= rr_depth:
                                 if q < 1.0:
-                                    if uniform(key, dim) >= q:
+                                    if rnd(sampler, key, pseed, s, dim, n_total) >= q:
                                         break
                                     for i in range(NW):
                                         beta[i] /= q
@@ -382,10 +382,10 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     for _ in range(C.MIX_DEPTH):
                         mm = mat_model[m]
                         if mm == C.MAT_MIX:
-                            m = int(mat_p[m, 1]) if uniform(key, dim) < mat_p[m, 0] else int(mat_p[m, 2])
+                            m = int(mat_p[m, 1]) if rnd(sampler, key, pseed, s, dim, n_total) < mat_p[m, 0] else int(mat_p[m, 2])
                             dim += 1
                         elif mm == C.MAT_ADD:
-                            m = int(mat_p[m, 1]) if uniform(key, dim) < 0.5 else int(mat_p[m, 2])
+                            m = int(mat_p[m, 1]) if rnd(sampler, key, pseed, s, dim, n_total) < 0.5 else int(mat_p[m, 2])
                             mix_w *= 2.0
                             dim += 1
                         else:
@@ -412,7 +412,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     flags_m = bsdf_flags(model, pm)
                     # next-event estimation (skipped for purely specular materials)
                     if n_emit > 0 and (flags_m & (BSDF_DIFFUSE | BSDF_GLOSSY)) != 0:
-                        ue = uniform(key, dim)
+                        ue = rnd(sampler, key, pseed, s, dim, n_total)
                         lo = 0
                         hi = n_emit - 1
                         while lo < hi:
@@ -422,47 +422,47 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                             else:
                                 hi = mid
                         ei = lo
-                        qx, qy, qz, lnx, lny, lnz, l_area, l_two, l_row, l_scale, ok = _emitter_sample(
-                            ei, uniform(key, dim + 1), uniform(key, dim + 2), emit_tri, emit_light, v0, e1, e2,
-                            tri_mat, mat_emis, mat_emis_scale, mat_emis_two, light_kind, light_geo, light_spec,
-                            light_scale, light_two_sided)
-                        wx = qx - px
-                        wy = qy - py
-                        wz = qz - pz
-                        d2 = wx * wx + wy * wy + wz * wz
-                        dist = math.sqrt(d2)
-                        if dist > 0.0 and ok:
-                            wx /= dist
-                            wy /= dist
-                            wz /= dist
-                            cos_y = -(lnx * wx + lny * wy + lnz * wz)
-                            if cos_y < 0.0 and l_two:
-                                cos_y = -cos_y
-                            cos_n = nx * wx + ny * wy + nz * wz
-                            if cos_y > 0.0 and cos_n != 0.0:
-                                wix = wx * tx + wy * ty + wz * tz
-                                wiy = wx * cx + wy * cy + wz * cz
-                                pb = bsdf_eval(model, pm, ra, rb, eta, kappa, wox, woy, woz, wix, wiy, cos_n, fv)
-                                fmax = 0.0
-                                for i in range(NW):
-                                    fmax = max(fmax, fv[i])
-                                if fmax > 0.0:
-                                    pl = emit_prob[ei] * d2 / (l_area * cos_y)
-                                    side = 1.0 if cos_n > 0.0 else -1.0
-                                    if media.unoccluded(has_media, px + side * eps * nx, py + side * eps * ny,
-                                                        pz + side * eps * nz, wx, wy, wz, dist * (1.0 - 1e-4) - eps,
-                                                        medium, outer, mat_medium[tri_mat[prim]], cos_i, cos_n, lam,
-                                                        mw, fv, bmin, bmax, child, count, axis, v0, e1, e2, tri_mat,
-                                                        mat_model, mat_medium, med_tab, eps, stack):
-                                        w = power_heuristic(pl, pb)
-                                        g = mix_w * w * abs(cos_n) * l_scale / pl
-                                        for i in range(NW):
-                                            rad[i] += beta[i] * fv[i] * g * lookup(spec, l_row, lam[i])
+                        ua = rnd(sampler, key, pseed, s, dim + 1, n_total)
+                        ub = rnd(sampler, key, pseed, s, dim + 2, n_total)
+                        if emit_tri[ei] >= 0:
+                            wx, wy, wz, dist, lpdf, fac, l_row, l_scale = _triangle_sample(
+                                emit_tri[ei], ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale,
+                                mat_emis_two)
+                        else:
+                            li = emit_light[ei]
+                            wx, wy, wz, dist, lpdf, fac = sample_light(light_kind[li], light_geo, li,
+                                                                       light_two_sided[li] != 0, px, py, pz, ua, ub)
+                            l_row = light_spec[li]
+                            l_scale = light_scale[li]
+                        cos_n = nx * wx + ny * wy + nz * wz
+                        if fac > 0.0 and lpdf > 0.0 and cos_n != 0.0:
+                            wix = wx * tx + wy * ty + wz * tz
+                            wiy = wx * cx + wy * cy + wz * cz
+                            pb = bsdf_eval(model, pm, ra, rb, eta, kappa, wox, woy, woz, wix, wiy, cos_n, fv)
+                            fmax = 0.0
+                            for i in range(NW):
+                                fmax = max(fmax, fv[i])
+                            if fmax > 0.0:
+                                side = 1.0 if cos_n > 0.0 else -1.0
+                                tmax_s = dist * (1.0 - 1e-4) - eps if dist < np.inf else np.inf
+                                if media.unoccluded(has_media, px + side * eps * nx, py + side * eps * ny,
+                                                    pz + side * eps * nz, wx, wy, wz, tmax_s, medium, outer,
+                                                    mat_medium[tri_mat[prim]], cos_i, cos_n, lam, mw, fv, bmin, bmax,
+                                                    child, count, axis, v0, e1, e2, tri_mat, mat_model, mat_medium,
+                                                    med_tab, eps, stack):
+                                    pe = emit_prob[ei]
+                                    if lpdf == np.inf:  # delta light: NEE only, no MIS
+                                        g = mix_w * abs(cos_n) * l_scale * fac / pe
+                                    else:
+                                        pl = pe * lpdf
+                                        g = mix_w * power_heuristic(pl, pb) * abs(cos_n) * l_scale * fac / pl
+                                    for i in range(NW):
+                                        rad[i] += beta[i] * fv[i] * g * lookup(spec, l_row, lam[i])
                     dim += 3
                     # BSDF sampling
                     wix, wiy, wiz, pdf, flags = bsdf_sample(model, pm, ra, rb, eta, kappa, wox, woy, woz,
-                                                            uniform(key, dim), uniform(key, dim + 1),
-                                                            uniform(key, dim + 2), fv)
+                                                            rnd(sampler, key, pseed, s, dim, n_total), rnd(sampler, key, pseed, s, dim + 1, n_total),
+                                                            rnd(sampler, key, pseed, s, dim + 2, n_total), fv)
                     dim += 3
                     if flags == 0:
                         break
@@ -496,7 +496,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                         break
                     if depth >= rr_depth:
                         if q < 1.0:
-                            if uniform(key, dim) >= q:
+                            if rnd(sampler, key, pseed, s, dim, n_total) >= q:
                                 break
                             for i in range(NW):
                                 beta[i] /= q

@@ -1,0 +1,70 @@
+"""The Spectral GI render engine (F12, animation renders, the compositor's passes).
+
+The class stays thin: the render loop lives in ``render_job.render_with_engine`` and
+imports ``core`` (and so numba) only when a render starts. Blender runs ``render()``
+on its render thread (the UI stays responsive); the kernels release the GIL.
+"""
+import bpy
+
+# Blender panels (output, dimensions, colour management, …) drawn for our engine too.
+# Lights are drawn by our own light panel (with their photometric units), not Blender's legacy one.
+EXCLUDE_PANELS = frozenset({"DATA_PT_light", "DATA_PT_spot", "NODE_DATA_PT_light", "DATA_PT_preview"})
+EXCLUDE_PREFIXES = ("VIEWLAYER_PT_freestyle", "RENDER_PT_freestyle", "MATERIAL_PT_freestyle")
+
+
+class SpectralGIRenderEngine(bpy.types.RenderEngine):
+    """Spectral path tracer with photometric output (cd/m², lux) in real units."""
+
+    bl_idname = "SPECTRAL_GI"
+    bl_label = "Spectral GI"
+    bl_use_preview = False  # no material preview renders
+    bl_use_postprocess = True  # compositor and sequencer after the render
+    bl_use_eevee_viewport = True  # Material Preview in the viewport uses EEVEE
+    bl_use_shading_nodes_custom = False  # materials use Blender's shader nodes
+
+    def render(self, depsgraph):
+        try:
+            from .render_job import render_with_engine
+
+            render_with_engine(self, depsgraph)
+        except Exception as exc:  # never let an exception escape into Blender's render job
+            import traceback
+
+            traceback.print_exc()
+            self.report({"ERROR"}, f"Spectral GI: {type(exc).__name__}: {exc}")
+
+    def update_render_passes(self, scene=None, renderlayer=None):
+        from .imageio import enabled_passes
+
+        self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
+        for name, channels, chan_id, kind in enabled_passes(renderlayer):
+            self.register_pass(scene, renderlayer, name, channels, chan_id, kind)
+
+
+def compat_panels():
+    """Blender's generic panels that list the legacy 'BLENDER_RENDER' engine as compatible."""
+    panels = []
+    for panel in bpy.types.Panel.__subclasses__():
+        engines = getattr(panel, "COMPAT_ENGINES", None)
+        if engines is not None and "BLENDER_RENDER" in engines and panel.__name__ not in EXCLUDE_PANELS \
+                and not panel.__name__.startswith(EXCLUDE_PREFIXES):
+            panels.append(panel)
+    return panels
+
+
+classes = (SpectralGIRenderEngine,)
+
+
+def register_extra():
+    for panel in compat_panels():
+        panel.COMPAT_ENGINES.add(SpectralGIRenderEngine.bl_idname)
+
+
+def unregister_extra():
+    for panel in bpy.types.Panel.__subclasses__():
+        engines = getattr(panel, "COMPAT_ENGINES", None)
+        if engines is not None and SpectralGIRenderEngine.bl_idname in engines:
+            try:
+                engines.remove(SpectralGIRenderEngine.bl_idname)
+            except (AttributeError, KeyError):
+                pass

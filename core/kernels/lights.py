@@ -1,0 +1,235 @@
+"""Analytic lights for the path kernel: sampling (next-event estimation) and ray hits.
+
+Each light is one row of ``light_geo`` (float64, L × LG_SIZE, layout below) and a kind
+tag (constants.LIGHT_*). The renderer scales each light's spectrum shape so that
+``light_scale · shape`` is, per kind:
+
+* rect / ellipse: the radiance (cd/m² photometrically);
+* point / spot of radius r > 0: the radiance of the sphere, L = I / (π r²), so that its
+  intensity I (cd) is that of the point light it replaces: a uniformly radiant sphere
+  seen from any direction shows a disc of area π r²;
+* point / spot of radius 0: the intensity I (cd); a delta light, reached only by NEE;
+* sun of angular diameter 2α > 0: the radiance of its disc, L = E / (π sin²α), so that
+  a surface facing it receives E (lux): ∫_cone L cos θ dω = L π sin²α;
+* sun of angle 0: the illuminance E (lux) from one direction (delta).
+
+Spot cone (Blender's spot_size = full angle and spot_blend; Cycles, intern/cycles
+scene/light.cpp and kernel/light/spot.h): with t = cos of the angle between the spot's
+axis and the direction from the light's centre to the lit point, the mask is 0 for
+t ≤ cos(spot_size/2) and smoothstep(0, 1, (t − cos½)/((1 − cos½)·blend)) above, 1 once
+the argument exceeds 1 (blend 0: a hard edge). We use the direction from the light's
+centre for both strategies (NEE and BSDF hits), so the mask depends on the lit point
+only and both estimators see the same emitter.
+
+Sphere lights are sampled uniformly in the cone they subtend (solid-angle pdf
+1/(2π(1 − cos α)), sin α = r/d), the sun uniformly in its cone. Lights are never
+occluders: rays pick up their emission and go on (as in Cycles).
+
+Every function here is a separately compiled ``function``: inlined into the path
+kernel at each call site they would multiply its compile time.
+"""
+import math
+
+import numpy as np
+
+from .. import constants as C
+from ..jit import function, inline
+from ..sampling.warps import cone_one_minus_cos, sample_uniform_cone
+
+# light_geo row layout
+LG_POS = 0  # 3: centre
+LG_U = 3  # 3: half-axis u (rect/ellipse)
+LG_V = 6  # 3: half-axis v (rect/ellipse)
+LG_N = 9  # 3: unit normal (rect/ellipse); spot axis; direction *towards* the sun
+LG_AREA = 12  # rect/ellipse area, m²
+LG_RADIUS = 13  # point/spot sphere radius, m
+LG_COS_HALF = 14  # spot: cos(spot_size / 2)
+LG_SMOOTH = 15  # spot: 1 / ((1 − cos½) blend), 0 for a hard edge
+LG_SUN_K = 16  # sun: 1 − cos α (α = half the angular diameter), 0 for a delta sun
+LG_SIZE = 17
+
+TWO_PI = 2.0 * math.pi
+
+
+@inline
+def _frame(nx, ny, nz):
+    """Orthonormal tangents (t, b) of the unit vector n (Duff et al. 2017)."""
+    sgn = 1.0 if nz >= 0.0 else -1.0
+    a = -1.0 / (sgn + nz)
+    b = nx * ny * a
+    return (1.0 + sgn * nx * nx * a, sgn * b, -sgn * nx, b, sgn + ny * ny * a, -ny)
+
+
+@inline
+def spot_mask(geo, li, qx, qy, qz):
+    """Blender's spot mask for the unit direction q from the light's centre to the lit point."""
+    t = geo[li, LG_N] * qx + geo[li, LG_N + 1] * qy + geo[li, LG_N + 2] * qz
+    ch = geo[li, LG_COS_HALF]
+    if t <= ch:
+        return 0.0
+    k = geo[li, LG_SMOOTH]
+    if k <= 0.0:
+        return 1.0
+    x = (t - ch) * k
+    if x >= 1.0:
+        return 1.0
+    return x * x * (3.0 - 2.0 * x)
+
+
+@function
+def sample_light(kind, geo, li, two_sided, px, py, pz, ua, ub):
+    """Sample a direction from (px, py, pz) towards analytic light ``li``.
+
+    Returns (wx, wy, wz, dist, pdf, fac): unit direction, distance to the emitting point
+    (inf for the sun), solid-angle pdf (inf for a delta light), and the factor that
+    multiplies ``light_scale · spectrum``: facing / spot mask, and 1/d² for a delta point
+    or spot. fac = 0 means no contribution.
+    """
+    if kind == C.LIGHT_RECT or kind == C.LIGHT_ELLIPSE:
+        if kind == C.LIGHT_RECT:
+            a = 2.0 * ua - 1.0
+            b = 2.0 * ub - 1.0
+        else:
+            r = math.sqrt(ua)
+            ph = TWO_PI * ub
+            a = r * math.cos(ph)
+            b = r * math.sin(ph)
+        qx = geo[li, 0] + a * geo[li, 3] + b * geo[li, 6]
+        qy = geo[li, 1] + a * geo[li, 4] + b * geo[li, 7]
+        qz = geo[li, 2] + a * geo[li, 5] + b * geo[li, 8]
+        wx = qx - px
+        wy = qy - py
+        wz = qz - pz
+        d2 = wx * wx + wy * wy + wz * wz
+        dist = math.sqrt(d2)
+        if dist == 0.0:
+            return 0.0, 0.0, 1.0, 0.0, 0.0, 0.0
+        wx /= dist
+        wy /= dist
+        wz /= dist
+        cos_y = -(geo[li, LG_N] * wx + geo[li, LG_N + 1] * wy + geo[li, LG_N + 2] * wz)
+        if cos_y < 0.0 and two_sided:
+            cos_y = -cos_y
+        if cos_y <= 0.0:
+            return wx, wy, wz, dist, 0.0, 0.0
+        return wx, wy, wz, dist, d2 / (geo[li, LG_AREA] * cos_y), 1.0
+    if kind == C.LIGHT_SUN:
+        nx = geo[li, LG_N]
+        ny = geo[li, LG_N + 1]
+        nz = geo[li, LG_N + 2]
+        k = geo[li, LG_SUN_K]
+        if k <= 0.0:
+            return nx, ny, nz, np.inf, np.inf, 1.0
+        theta = 2.0 * math.asin(min(math.sqrt(0.5 * k), 1.0))
+        lx, ly, lz, pdf = sample_uniform_cone(theta, ua, ub)
+        tx, ty, tz, bx, by, bz = _frame(nx, ny, nz)
+        wx = lx * tx + ly * bx + lz * nx
+        wy = lx * ty + ly * by + lz * ny
+        wz = lx * tz + ly * bz + lz * nz
+        return wx, wy, wz, np.inf, pdf, 1.0
+    # point / spot
+    cx = geo[li, 0] - px
+    cy = geo[li, 1] - py
+    cz = geo[li, 2] - pz
+    d2 = cx * cx + cy * cy + cz * cz
+    d = math.sqrt(d2)
+    if d == 0.0:
+        return 0.0, 0.0, 1.0, 0.0, 0.0, 0.0
+    cx /= d
+    cy /= d
+    cz /= d
+    fac = 1.0
+    if kind == C.LIGHT_SPOT:
+        fac = spot_mask(geo, li, -cx, -cy, -cz)
+        if fac == 0.0:
+            return cx, cy, cz, d, 0.0, 0.0
+    r = geo[li, LG_RADIUS]
+    if r <= 0.0:
+        return cx, cy, cz, d, np.inf, fac / d2
+    if d <= r:
+        return cx, cy, cz, d, 0.0, 0.0  # inside the sphere: no sample
+    s = r / d
+    theta = math.asin(s)
+    lx, ly, lz, pdf = sample_uniform_cone(theta, ua, ub)
+    tx, ty, tz, bx, by, bz = _frame(cx, cy, cz)
+    wx = lx * tx + ly * bx + lz * cx
+    wy = lx * ty + ly * by + lz * cy
+    wz = lx * tz + ly * bz + lz * cz
+    # distance to the sphere along w: d cos θ − sqrt(r² − d² sin² θ)
+    sin2 = lx * lx + ly * ly
+    disc = r * r - d2 * sin2
+    t = d * lz - math.sqrt(max(disc, 0.0))
+    return wx, wy, wz, max(t, 0.0), pdf, fac
+
+
+@function
+def hit_light(kind, geo, li, two_sided, ox, oy, oz, dx, dy, dz, tmax):
+    """A ray against analytic light ``li`` (not the sun): (t, fac, pdf).
+
+    t = inf on a miss (or for a delta light); fac multiplies ``light_scale · spectrum``
+    (0 for the back of a one-sided light); pdf is the solid-angle density with which
+    :func:`sample_light` would have produced this direction from the ray's origin.
+    """
+    if kind == C.LIGHT_RECT or kind == C.LIGHT_ELLIPSE:
+        nx = geo[li, LG_N]
+        ny = geo[li, LG_N + 1]
+        nz = geo[li, LG_N + 2]
+        den = dx * nx + dy * ny + dz * nz
+        if den == 0.0:
+            return np.inf, 0.0, 0.0
+        t = ((geo[li, 0] - ox) * nx + (geo[li, 1] - oy) * ny + (geo[li, 2] - oz) * nz) / den
+        if t <= 0.0 or t >= tmax:
+            return np.inf, 0.0, 0.0
+        hx = ox + t * dx - geo[li, 0]
+        hy = oy + t * dy - geo[li, 1]
+        hz = oz + t * dz - geo[li, 2]
+        uu = geo[li, 3] * geo[li, 3] + geo[li, 4] * geo[li, 4] + geo[li, 5] * geo[li, 5]
+        vv = geo[li, 6] * geo[li, 6] + geo[li, 7] * geo[li, 7] + geo[li, 8] * geo[li, 8]
+        a = (hx * geo[li, 3] + hy * geo[li, 4] + hz * geo[li, 5]) / uu
+        b = (hx * geo[li, 6] + hy * geo[li, 7] + hz * geo[li, 8]) / vv
+        if kind == C.LIGHT_RECT:
+            if abs(a) > 1.0 or abs(b) > 1.0:
+                return np.inf, 0.0, 0.0
+        elif a * a + b * b > 1.0:
+            return np.inf, 0.0, 0.0
+        if den > 0.0 and not two_sided:
+            return t, 0.0, 0.0
+        return t, 1.0, t * t / (geo[li, LG_AREA] * abs(den))
+    if kind == C.LIGHT_SUN:
+        return np.inf, 0.0, 0.0
+    r = geo[li, LG_RADIUS]
+    if r <= 0.0:
+        return np.inf, 0.0, 0.0
+    cx = geo[li, 0] - ox
+    cy = geo[li, 1] - oy
+    cz = geo[li, 2] - oz
+    d2 = cx * cx + cy * cy + cz * cz
+    if d2 <= r * r:
+        return np.inf, 0.0, 0.0  # the ray starts inside the sphere
+    b = cx * dx + cy * dy + cz * dz
+    if b <= 0.0:
+        return np.inf, 0.0, 0.0
+    disc = b * b - (d2 - r * r)
+    if disc < 0.0:
+        return np.inf, 0.0, 0.0
+    t = b - math.sqrt(disc)
+    if t <= 0.0 or t >= tmax:
+        return np.inf, 0.0, 0.0
+    d = math.sqrt(d2)
+    fac = 1.0
+    if kind == C.LIGHT_SPOT:
+        fac = spot_mask(geo, li, -cx / d, -cy / d, -cz / d)
+    k = cone_one_minus_cos(math.asin(min(r / d, 1.0)))
+    return t, fac, 1.0 / (TWO_PI * k)
+
+
+@inline
+def sun_hit(geo, li, dx, dy, dz):
+    """(fac, pdf) of a ray escaping along d towards sun ``li``: inside its cone or not."""
+    k = geo[li, LG_SUN_K]
+    if k <= 0.0:
+        return 0.0, 0.0
+    c = dx * geo[li, LG_N] + dy * geo[li, LG_N + 1] + dz * geo[li, LG_N + 2]
+    if 1.0 - c > k:
+        return 0.0, 0.0
+    return 1.0, 1.0 / (TWO_PI * k)

@@ -14,8 +14,8 @@ class BVH:
     count: np.ndarray
     axis: np.ndarray
     prims: np.ndarray  # leaf order → original triangle index
-    v0: np.ndarray  # float32 (T, 3), leaf order
-    e1: np.ndarray
+    v0: np.ndarray  # float32 (T, 3), leaf order: the first corner rounded to float32
+    e1: np.ndarray  # float64 (T, 3): exact v1 - v0 of the float32-rounded corners
     e2: np.ndarray
 
     @property
@@ -24,33 +24,52 @@ class BVH:
 
     @property
     def nbytes(self):
+        """Bytes the renderer keeps: node arrays, leaf-order triangles and ``prims``.
+
+        At most 36 (2T - 1) + 64 T, i.e. < 136 bytes per triangle whatever the tree.
+        """
         return sum(a.nbytes for a in (self.bmin, self.bmax, self.child, self.count, self.axis,
                                       self.prims, self.v0, self.e1, self.e2))
 
 
+def _corners(v, name):
+    v = np.asarray(v)
+    if v.dtype != np.float32 and v.dtype != np.float64:
+        v = v.astype(np.float64)
+    if v.ndim != 2 or v.shape[1] != 3:
+        raise ValueError(f"accel.build: {name} must have shape (T, 3), got {v.shape}")
+    return np.ascontiguousarray(v)
+
+
 def build(v0, v1, v2):
-    """Build a BVH over triangles given by their corners, each (T, 3) float."""
-    v0 = np.asarray(v0, np.float64)
-    v1 = np.asarray(v1, np.float64)
-    v2 = np.asarray(v2, np.float64)
-    tri_min = np.minimum(np.minimum(v0, v1), v2)
-    tri_max = np.maximum(np.maximum(v0, v1), v2)
-    centroid = (tri_min + tri_max) * 0.5
-    bmin, bmax, child, count, axis, prims = K.build_bvh(
-        np.ascontiguousarray(tri_min), np.ascontiguousarray(tri_max), np.ascontiguousarray(centroid))
-    a = v0[prims]
-    return BVH(bmin, bmax, child, count, axis, prims,
-               np.ascontiguousarray(a, np.float32),
-               np.ascontiguousarray(v1[prims] - a, np.float32),
-               np.ascontiguousarray(v2[prims] - a, np.float32))
+    """Build a BVH over triangles given by their corners, each (T, 3) float.
+
+    Corners are rounded to float32 (float32 input is used as is, without a copy). Raises
+    ValueError for mismatched shapes or a non-finite coordinate, naming the triangle.
+    """
+    a, b, c = _corners(v0, "v0"), _corners(v1, "v1"), _corners(v2, "v2")
+    if not (a.shape == b.shape == c.shape):
+        raise ValueError(f"accel.build: corner arrays differ in shape: {a.shape}, {b.shape}, {c.shape}")
+    if a.shape[0] >= 2 ** 31 - 1:
+        raise ValueError(f"accel.build: {a.shape[0]} triangles exceed the int32 indices")
+    bmin, bmax, child, count, axis, prims, tv0, te1, te2, bad = K.build_bvh(a, b, c)
+    if bad >= 0:
+        raise ValueError(f"accel.build: triangle {bad} has a non-finite corner coordinate "
+                         f"({a[bad].tolist()}, {b[bad].tolist()}, {c[bad].tolist()})")
+    return BVH(bmin, bmax, child, count, axis, prims, tv0, te1, te2)
+
+
+def _rays(origins, directions, tmax):
+    o = np.ascontiguousarray(origins, np.float64)
+    d = np.ascontiguousarray(directions, np.float64)
+    tm = np.full(o.shape[0], np.inf) if tmax is None else \
+        np.array(np.broadcast_to(tmax, o.shape[:1]), np.float64)  # a writable copy: one compiled signature
+    return o, d, tm
 
 
 def closest(bvh, origins, directions, tmax=None):
     """Closest hits: (t, original triangle index or -1)."""
-    o = np.ascontiguousarray(origins, np.float64)
-    d = np.ascontiguousarray(directions, np.float64)
-    tm = np.full(o.shape[0], np.inf) if tmax is None else np.ascontiguousarray(
-        np.broadcast_to(tmax, o.shape[:1]), np.float64)
+    o, d, tm = _rays(origins, directions, tmax)
     from .renderer import KERNEL_LOCK
     with KERNEL_LOCK:
         t, p = K.trace_closest_batch(o, d, tm, bvh.bmin, bvh.bmax, bvh.child, bvh.count, bvh.axis,
@@ -62,33 +81,75 @@ def closest(bvh, origins, directions, tmax=None):
 
 
 def occluded(bvh, origins, directions, tmax):
-    o = np.ascontiguousarray(origins, np.float64)
-    d = np.ascontiguousarray(directions, np.float64)
-    tm = np.ascontiguousarray(np.broadcast_to(tmax, o.shape[:1]), np.float64)
+    o, d, tm = _rays(origins, directions, tmax)
     from .renderer import KERNEL_LOCK
     with KERNEL_LOCK:
         return K.trace_occluded_batch(o, d, tm, bvh.bmin, bvh.bmax, bvh.child, bvh.count,
                                       bvh.v0, bvh.e1, bvh.e2)
 
 
-def brute_force_closest(v0, v1, v2, origins, directions):
-    """NumPy oracle: Möller–Trumbore against every triangle (float32 corners, float64 math)."""
+def brute_force_closest(v0, v1, v2, origins, directions, chunk=256):
+    """NumPy oracle: the watertight test (the kernel's arithmetic, step for step) against
+    every triangle, float32 corners, float64 math. Returns (t, triangle index or -1)."""
     a = np.asarray(v0, np.float32).astype(np.float64)
     e1 = np.asarray(v1, np.float32).astype(np.float64) - a
     e2 = np.asarray(v2, np.float32).astype(np.float64) - a
-    o = np.asarray(origins, np.float64)[:, None, :]
-    d = np.asarray(directions, np.float64)[:, None, :]
-    p = np.cross(d, e2[None])
-    det = np.sum(e1[None] * p, -1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        inv = 1.0 / det
-        tv = o - a[None]
-        u = np.sum(tv * p, -1) * inv
-        q = np.cross(tv, e1[None])
-        v = np.sum(d * q, -1) * inv
-        t = np.sum(e2[None] * q, -1) * inv
-    ok = (det != 0) & (u >= 0) & (u <= 1) & (v >= 0) & (u + v <= 1) & (t > 0)
-    t = np.where(ok, t, np.inf)
-    idx = np.argmin(t, axis=1)
-    best = t[np.arange(t.shape[0]), idx]
-    return best, np.where(np.isfinite(best), idx, -1)
+    origins = np.asarray(origins, np.float64)
+    directions = np.asarray(directions, np.float64)
+    n = origins.shape[0]
+    best = np.full(n, np.inf)
+    idx = np.full(n, -1, np.int64)
+    if a.shape[0] == 0:
+        return best, idx
+    for s in range(0, n, chunk):
+        o = origins[s:s + chunk]
+        d = directions[s:s + chunk]
+        r = np.arange(o.shape[0])
+        kz = np.argmax(np.abs(d), axis=1)
+        kx = (kz + 1) % 3
+        ky = (kx + 1) % 3
+        flip = d[r, kz] < 0
+        kx, ky = np.where(flip, ky, kx), np.where(flip, kx, ky)
+        sz = 1.0 / d[r, kz]
+        sx = (d[r, kx] * sz)[:, None]
+        sy = (d[r, ky] * sz)[:, None]
+        sz = sz[:, None]
+        okx, oky, okz = o[r, kx][:, None], o[r, ky][:, None], o[r, kz][:, None]
+        pax, pay, paz = a[:, kx].T, a[:, ky].T, a[:, kz].T
+        az = paz - okz
+        ax = (pax - okx) - sx * az
+        ay = (pay - oky) - sy * az
+        bz = (paz + e1[:, kz].T) - okz
+        bx = ((pax + e1[:, kx].T) - okx) - sx * bz
+        by = ((pay + e1[:, ky].T) - oky) - sy * bz
+        cz = (paz + e2[:, kz].T) - okz
+        cx = ((pax + e2[:, kx].T) - okx) - sx * cz
+        cy = ((pay + e2[:, ky].T) - oky) - sy * cz
+        u = cx * by - cy * bx
+        v = ax * cy - ay * cx
+        w = bx * ay - by * ax
+        det = u + v + w
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = sz * (u * az + v * bz + w * cz) / det
+        inside = ~(((u < 0) | (v < 0) | (w < 0)) & ((u > 0) | (v > 0) | (w > 0)))
+        ok = inside & (det != 0) & (t > 0)
+        t = np.where(ok, t, np.inf)
+        k = np.argmin(t, axis=1)
+        tb = t[r, k]
+        best[s:s + chunk] = tb
+        idx[s:s + chunk] = np.where(np.isfinite(tb), k, -1)
+    return best, idx
+
+
+def tree_depth(bvh):
+    """Number of nodes on the longest root-to-leaf path (1 for a single leaf)."""
+    level = np.zeros(1, np.int64)
+    depth = 0
+    while level.size:
+        depth += 1
+        if bvh.v0.shape[0] == 0:
+            break
+        inner = level[bvh.count[level] == 0]
+        left = bvh.child[inner].astype(np.int64)
+        level = np.concatenate([left, left + 1])
+    return depth

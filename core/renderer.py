@@ -78,6 +78,11 @@ class Prepared:
     emit_light: np.ndarray
     world_spec: int
     world_scale: float
+    world_img: np.ndarray
+    world_dist: np.ndarray
+    world_par: np.ndarray
+    world_row: int
+    world_emit: int
     cam: np.ndarray
     scene_scale: float
     build_seconds: float
@@ -202,6 +207,47 @@ def camera_medium(scene: Scene, v0, v1, v2, tri_mat_orig, mat_medium):
         n = np.cross(v1[j] - v0[j], v2[j] - v0[j])
         votes.append(int(mat_medium[tri_mat_orig[j]]) if np.dot(n, dirs[k]) > 0 else -1)
     return max(set(votes), key=votes.count)
+
+
+def world_emission_basis(cmf=None):
+    """(3, N_LAMBDA) spectral radiance per unit of linear Rec.709 r, g and b of a world image.
+
+    The Mallett–Yuksel (2019) basis, the reflectance uplift core.spectra.uplift uses
+    (r·B_r + g·B_g + b·B_b, non-negative, flat for white), times CIE D65, tabulated on the
+    renderer's 1 nm grid and scaled so that white (1, 1, 1) has film Y = 1, i.e. 683 cd/m²,
+    Blender's RGB 1. The uplift is linear in the colour, so a texel's spectrum is its rgb
+    times these rows: the same as uplifting rgb/max and scaling by max, with no per-texel
+    coefficients (memory: the image itself). Returns (basis, Y of each row).
+    """
+    if cmf is None:
+        cmf = cmf_table()
+    wl, basis = presets.mallett2019_basis()
+    dwl, d65 = presets.illuminant("D65")
+    grid = moments.grid()
+    rows = np.stack([np.interp(grid, wl, basis[:, k]) for k in range(3)]) * np.interp(grid, dwl, d65)[None, :]
+    y = rows.astype(np.float64) @ cmf[:, 1].astype(np.float64) * C.LAMBDA_STEP
+    rows /= y.sum()
+    return rows, y / y.sum()
+
+
+def _world_image(world, cmf, scene_radius):
+    """Kernel arrays of the world image: (img, distribution, par, basis rows or None, flux in lm)."""
+    from .sampling import build_distribution_2d
+
+    img = world.image
+    if img is None or not world.image_scale > 0 or not float(np.max(img)) > 0:
+        return np.zeros((1, 1, 3), np.float32), np.zeros(8), np.zeros(4), None, 0.0
+    img = np.ascontiguousarray(img, np.float32)
+    h, w = img.shape[:2]
+    basis, y = world_emission_basis(cmf)
+    lum = C.K_M * float(world.image_scale) * (img.astype(np.float64) @ y)  # cd/m² per texel
+    theta = np.pi * (np.arange(h) + 0.5) / h
+    dist = build_distribution_2d(lum * np.sin(theta)[:, None])
+    # ∫ L dω over the sphere, per texel 2π/w · (cos θ0 − cos θ1)
+    edges = np.cos(np.pi * np.arange(h + 1) / h)
+    flux_density = float(np.sum(lum * ((edges[:-1] - edges[1:]) * 2 * np.pi / w)[:, None]))
+    par = np.array([np.cos(world.rotation), np.sin(world.rotation), float(world.image_scale), 1.0])
+    return img, dist, par, basis, flux_density * np.pi * scene_radius ** 2
 
 
 def _scene_radius(v0, v1, v2):
@@ -336,10 +382,17 @@ def prepare(scene: Scene) -> Prepared:
     lum = np.array([m.emission_luminance for m in scene.materials] or [0.0])
     power_tri = np.pi * lum[tri_mat[em_tris]] * tri_area[em_tris] * (1.0 + mat_emis_two[tri_mat[em_tris]])
     power_light = light_power
-    power = np.concatenate([power_tri, power_light])
-    keep_l = power_light > 0
-    emit_tri = np.concatenate([em_tris, np.full(n_l, -1, np.int32)])
-    emit_light = np.concatenate([np.full(em_tris.size, -1, np.int32), np.arange(n_l, dtype=np.int32)])
+    # the world image: one more emitter, between the triangles and the analytic lights
+    world_img, world_dist, world_par, world_basis, power_world = _world_image(scene.world, cmf, scene_radius)
+    world_row = spec.shape[0]
+    if world_basis is not None:
+        spec = np.concatenate([spec, world_basis.astype(np.float32)])
+    n_world = 1 if power_world > 0 else 0
+    power = np.concatenate([power_tri, [power_world] * n_world, power_light])
+    emit_tri = np.concatenate([em_tris, np.full(n_world + n_l, -1, np.int32)])
+    emit_light = np.concatenate([np.full(em_tris.size, -1, np.int32), np.full(n_world, -2, np.int32),
+                                 np.arange(n_l, dtype=np.int32)])
+    world_emit = int(em_tris.size) if n_world else -1
     # lights with zero power stay in the table (their index is fixed) with zero probability
     total = power.sum()
     if total > 0:
@@ -355,7 +408,7 @@ def prepare(scene: Scene) -> Prepared:
         cdf = np.zeros(1)
         emit_tri = np.zeros(0, np.int32)
         emit_light = np.zeros(0, np.int32)
-    del keep_l
+        world_emit = -1
     tri_emitter = np.full(tri_mat.size, -1, np.int32)
     if total > 0:
         tri_emitter[em_tris] = np.arange(em_tris.size, dtype=np.int32)
@@ -380,7 +433,8 @@ def prepare(scene: Scene) -> Prepared:
                     mat_ior, np.ascontiguousarray(ior_tab, np.float32), mat_emis, mat_emis_scale,
                     mat_emis_two, np.ascontiguousarray(spec, np.float32), cmf, light_kind, light_geo, light_spec,
                     light_scale, light_two, light_vis, cdf, np.ascontiguousarray(prob), emit_tri, emit_light,
-                    world_spec, world_scale, camera_vector(scene.camera), scene_scale,
+                    world_spec, world_scale, world_img, world_dist, world_par, int(world_row), world_emit,
+                    camera_vector(scene.camera), scene_scale,
                     time.perf_counter() - t0, mat_medium, med_tab, med_g, cam_medium)
 
 
@@ -396,7 +450,8 @@ def _rows(prep, film, y0, y1, s0, s1):
                 prep.ior_tab, prep.mat_emis, prep.mat_emis_scale, prep.mat_emis_two, prep.spec, prep.cmf,
                 prep.light_kind, prep.light_geo, prep.light_spec, prep.light_scale, prep.light_two_sided,
                 prep.light_visible, prep.emit_cdf, prep.emit_prob, prep.emit_tri, prep.emit_light,
-                int(prep.world_spec), float(prep.world_scale), film.spectral, int(st.sampler), int(st.spp),
+                int(prep.world_spec), float(prep.world_scale), prep.world_img, prep.world_dist, prep.world_par,
+                prep.world_row, prep.world_emit, film.spectral, int(st.sampler), int(st.spp),
                 prep.mat_medium, prep.med_tab, prep.med_g, int(prep.cam_medium))
 
 

@@ -200,8 +200,20 @@ class Camera:
 
 @dataclass
 class World:
+    """The background: a constant spectrum, or an equirectangular image.
+
+    ``image`` (float32 (H, W, 3), linear Rec.709, Cycles' equirectangular layout: row 0 at
+    the zenith +Z, the image's centre looking along +X) replaces the constant background
+    when given. Its texels are uplifted to spectra at render time; RGB 1 is 683 cd/m²
+    (Blender's scene-linear 1), times ``image_scale``; ``rotation`` turns the map about +Z
+    (counter-clockwise seen from above, as a Mapping node's Z rotation).
+    """
+
     background: int = -1  # index of an unbounded spectrum; -1 = black
     luminance: float = 0.0  # cd/m² of the background radiance
+    image: np.ndarray | None = None  # float32 (H, W, 3) linear Rec.709 equirectangular map, or None
+    rotation: float = 0.0  # rad about +Z
+    image_scale: float = 1.0  # multiplies the image (Blender's Background strength)
 
 
 @dataclass
@@ -448,6 +460,16 @@ def validate(scene: Scene) -> Scene:
 
     spec_ref("world.background", scene.world.background, C.SPECTRUM_UNBOUNDED)
     _check_number("world.luminance", scene.world.luminance, lo=0.0)
+    wimg = scene.world.image
+    if wimg is not None:
+        _check_array("world.image", wimg, np.float32, (None, None, 3))
+        if wimg.shape[0] < 1 or wimg.shape[1] < 1:
+            _fail("world.image", f"expected at least one texel, got shape {wimg.shape}")
+        if wimg.size and wimg.min() < 0.0:
+            bad = np.argwhere(wimg < 0.0)[0]
+            _fail("world.image", f"negative radiance (first at index {tuple(int(i) for i in bad)})")
+    _check_number("world.rotation", scene.world.rotation)
+    _check_number("world.image_scale", scene.world.image_scale, lo=0.0)
 
     s = scene.settings
     _check_number("settings.spp", s.spp, lo=1, hi=1 << 24, integer=True)
@@ -479,6 +501,15 @@ def _to_jsonable(obj):
     return obj
 
 
+def _world_record(world, arrays):
+    rec = {f.name: getattr(world, f.name) for f in dataclasses.fields(World) if f.name != "image"}
+    rec["image"] = None
+    if world.image is not None:
+        arrays["world.image"] = world.image
+        rec["image"] = "world.image"
+    return rec
+
+
 def to_dict_and_arrays(scene: Scene):
     """Split a scene into a JSON-able dict and a dict of named arrays."""
     arrays = {"spectra.coeffs": scene.spectra.coeffs, "spectra.kind": scene.spectra.kind,
@@ -504,7 +535,7 @@ def to_dict_and_arrays(scene: Scene):
         "media": [dataclasses.asdict(md) for md in scene.media],
         "meshes": meshes,
         "camera": cam,
-        "world": dataclasses.asdict(scene.world),
+        "world": _world_record(scene.world, arrays),
         "settings": dataclasses.asdict(scene.settings),
     }
     return _to_jsonable(doc), arrays
@@ -599,7 +630,9 @@ def load(path) -> Scene:
         camd = dict(doc["camera"])
         camd["to_world"] = np.asarray(camd.get("to_world"), dtype=np.float64)
         camera = record(Camera, camd, "camera")
-        world = record(World, doc["world"], "world")
+        wd = dict(doc["world"])
+        wd["image"] = arr(wd.get("image"), "world.image")
+        world = record(World, wd, "world")
         settings = record(RenderSettings, doc["settings"], "settings")
     except KeyError as e:
         raise SceneError(f"{e.args[0]}: missing from {path.name}") from None

@@ -233,3 +233,57 @@ def sun_hit(geo, li, dx, dy, dz):
     if 1.0 - c > k:
         return 0.0, 0.0
     return 1.0, 1.0 / (TWO_PI * k)
+
+
+# --------------------------------------------------------------------------- world image
+#
+# An equirectangular map as Cycles lays it out (intern/cycles/kernel/geom: direction_to_
+# equirectangular): u = 1/2 − atan2(y, x)/(2π) across the columns (u = 1/2, the image's
+# centre, looks along +X), and θ = acos z down the rows (row 0 at the zenith), after
+# turning the direction by −rotation about +Z. ``par`` = [cos ρ, sin ρ, scale, active].
+# The map is importance sampled by a piecewise-constant 2D distribution over (u, v = θ/π)
+# of the texels' luminance × sin θ; dω = 2π² sin θ du dv.
+
+from ..sampling.distrib import distribution_2d_pdf, sample_distribution_2d  # noqa: E402
+
+TWO_PI2 = 2.0 * math.pi * math.pi
+
+
+@function
+def env_lookup(dist, par, w, h, dx, dy, dz):
+    """Texel (i, j) seen along the unit direction d, and the solid-angle pdf of env_sample."""
+    x = par[0] * dx + par[1] * dy
+    y = -par[1] * dx + par[0] * dy
+    z = min(max(dz, -1.0), 1.0)
+    u = 0.5 - math.atan2(y, x) / TWO_PI
+    if u >= 1.0:
+        u -= 1.0
+    if u < 0.0:
+        u = 0.0
+    v = math.acos(z) / math.pi
+    i = min(int(u * w), w - 1)
+    j = min(int(v * h), h - 1)
+    sin_t = math.sqrt(max(0.0, 1.0 - z * z))
+    if sin_t <= 0.0:
+        return i, j, 0.0
+    return i, j, distribution_2d_pdf(dist, u, v) / (TWO_PI2 * sin_t)
+
+
+@function
+def env_sample(dist, par, ua, ub):
+    """A direction from the world image's distribution: (x, y, z, solid-angle pdf, i, j)."""
+    u, v, p = sample_distribution_2d(dist, ua, ub)
+    w = int(dist[0])
+    h = int(dist[1])
+    i = min(int(u * w), w - 1)
+    j = min(int(v * h), h - 1)
+    theta = v * math.pi
+    sin_t = math.sin(theta)
+    if sin_t <= 0.0 or p <= 0.0:
+        return 0.0, 0.0, 1.0, 0.0, i, j
+    phi = (0.5 - u) * TWO_PI
+    xl = sin_t * math.cos(phi)
+    yl = sin_t * math.sin(phi)
+    x = par[0] * xl - par[1] * yl
+    y = par[1] * xl + par[0] * yl
+    return x, y, math.cos(theta), p / (TWO_PI2 * sin_t), i, j

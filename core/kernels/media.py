@@ -323,12 +323,12 @@ def pick(cdf, n, u):
 
 
 @function
-def nee(px, py, pz, dx, dy, dz, g, wx, wy, wz, dist, lpdf, fac, l_row, l_scale, pe, medium, outer, lam, beta, rad,
-        spec, mw, bmin, bmax, child, count, axis, v0, e1, e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack):
+def nee(px, py, pz, dx, dy, dz, g, wx, wy, wz, dist, lpdf, fac, le, pe, medium, outer, lam, beta, rad, mw,
+        bmin, bmax, child, count, axis, v0, e1, e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack):
     """Light sampling at a scattering point: an emitter sample (unit direction w, distance,
-    solid-angle pdf — inf for a delta light —, factor, spectrum row and scale, selection
-    probability pe), HG phase, analytic transmittance through media and null surfaces,
-    power heuristic against phase sampling."""
+    solid-angle pdf — inf for a delta light —, factor, emitted radiance le per wavelength,
+    selection probability pe), HG phase, analytic transmittance through media and null
+    surfaces, power heuristic against phase sampling."""
     if fac <= 0.0 or lpdf <= 0.0:
         return
     ph = hg_eval(g, dx * wx + dy * wy + dz * wz)
@@ -339,12 +339,12 @@ def nee(px, py, pz, dx, dy, dz, g, wx, wy, wz, dist, lpdf, fac, l_row, l_scale, 
                   v0, e1, e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack):
         return
     if lpdf == np.inf:  # delta light: NEE only
-        k = ph * l_scale * fac / pe
+        k = ph * fac / pe
     else:
         pl = pe * lpdf
-        k = pl * pl / (pl * pl + ph * ph) * ph * l_scale * fac / pl
+        k = pl * pl / (pl * pl + ph * ph) * ph * fac / pl
     for i in range(NW):
-        rad[i] += beta[i] * mw[MW_TR, i] * k * _interp(spec, l_row, lam[i])
+        rad[i] += beta[i] * mw[MW_TR, i] * k * le[i]
 
 
 @inline

@@ -23,7 +23,7 @@ from ..bsdfs.dispatch import bsdf_eval, bsdf_flags, bsdf_sample
 from ..bsdfs.params import BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE, BSDF_GLOSSY
 from . import media
 from .bvh import STACK_SIZE, closest_hit
-from .lights import hit_light, sample_light, sun_hit
+from .lights import env_lookup, env_sample, hit_light, sample_light, sun_hit
 from ..sampling.qmc import pixel_seed, qmc_sample
 from ..sampling.tags import RANDOMIZE_OWEN, SAMPLER_INDEPENDENT
 from .rng import path_key, uniform
@@ -158,6 +158,37 @@ def _triangle_sample(tp, ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_
     return wx, wy, wz, dist, d2 / (0.5 * ll * cos_y), 1.0, mat_emis[lm], mat_emis_scale[lm]
 
 
+@function
+def _emitter_sample(ei, ua, ub, px, py, pz, lam, le, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale, mat_emis_two,
+                    spec, light_kind, light_geo, light_spec, light_scale, light_two_sided, emit_tri, emit_light,
+                    world_img, world_dist, world_par, world_row):
+    """Emitter ``ei`` sampled from p, as the surface NEE does: (wx, wy, wz, dist, solid-angle
+    pdf (inf: delta), fac) and its emitted spectral radiance (or intensity) into ``le``.
+    Used at scattering points in media (core/kernels/media.py)."""
+    if emit_tri[ei] >= 0:
+        wx, wy, wz, dist, lpdf, fac, l_row, l_scale = _triangle_sample(
+            emit_tri[ei], ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale, mat_emis_two)
+        for i in range(NW):
+            le[i] = l_scale * lookup(spec, l_row, lam[i])
+    elif emit_light[ei] >= 0:
+        li = emit_light[ei]
+        wx, wy, wz, dist, lpdf, fac = sample_light(light_kind[li], light_geo, li, light_two_sided[li] != 0,
+                                                   px, py, pz, ua, ub)
+        for i in range(NW):
+            le[i] = light_scale[li] * lookup(spec, light_spec[li], lam[i])
+    else:  # the world image
+        wx, wy, wz, lpdf, ti, tj = env_sample(world_dist, world_par, ua, ub)
+        dist = np.inf
+        fac = 1.0
+        cr = world_par[2] * world_img[tj, ti, 0]
+        cg = world_par[2] * world_img[tj, ti, 1]
+        cb = world_par[2] * world_img[tj, ti, 2]
+        for i in range(NW):
+            le[i] = (cr * lookup(spec, world_row, lam[i]) + cg * lookup(spec, world_row + 1, lam[i])
+                     + cb * lookup(spec, world_row + 2, lam[i]))
+    return wx, wy, wz, dist, lpdf, fac
+
+
 @inline
 def _lookup_material(m, lam, spec, ior_tab, mat_ra, mat_rb, mat_eta, mat_kappa, mat_ior, ra, rb, eta, kappa):
     for i in range(NW):
@@ -175,7 +206,8 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 spec, cmf,
                 light_kind, light_geo, light_spec, light_scale, light_two_sided, light_visible,
                 emit_cdf, emit_prob, emit_tri, emit_light,
-                world_spec, world_scale, spectral, sampler, n_total, mat_medium, med_tab, med_g, cam_medium):
+                world_spec, world_scale, world_img, world_dist, world_par, world_row, world_emit,
+                spectral, sampler, n_total, mat_medium, med_tab, med_g, cam_medium):
     """Add samples s0 .. s1-1 of every pixel of rows y0 .. y1-1 to ``film`` (H, W, 5) float64.
 
     A serial kernel that releases the GIL: the renderer runs blocks of rows on a pool of
@@ -189,6 +221,11 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
 
     sampler: SAMPLER_* tag (independent, Halton, Hammersley); n_total: the render's
     total samples per pixel (Hammersley's n).
+
+    World: a constant spectrum (world_spec row, world_scale), or, when world_par[3] > 0, the
+    equirectangular image world_img (H, W, 3) whose texel rgb weighs the three spectrum rows
+    world_row.. (the emission basis), scaled by world_par[2], importance sampled by
+    world_dist (see lights.env_*), entry world_emit of the emitter table.
 
     spectral: (H, W, B) float64 sums of the spectral radiance averaged over B equal bins
     of [LMIN, LMAX] (W/(m² sr nm)); pass a (1, 1, 0) array to skip it.
@@ -222,6 +259,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
         eta = np.empty(NW)
         kappa = np.empty(NW)
         fv = np.empty(NW)
+        le = np.empty(NW)
         mw = np.empty((media.MW_ROWS, NW))
         for x in range(width):
             pix = y * width + x
@@ -302,22 +340,15 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                             g = med_g[medium]
                             if n_emit > 0:
                                 ei = media.pick(emit_cdf, n_emit, rnd(sampler, key, pseed, s, dim, n_total))
-                                ua = rnd(sampler, key, pseed, s, dim + 1, n_total)
-                                ub = rnd(sampler, key, pseed, s, dim + 2, n_total)
-                                if emit_tri[ei] >= 0:
-                                    wx, wy, wz, dist, lpdf, fac, l_row, l_scale = _triangle_sample(
-                                        emit_tri[ei], ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis,
-                                        mat_emis_scale, mat_emis_two)
-                                else:
-                                    li = emit_light[ei]
-                                    wx, wy, wz, dist, lpdf, fac = sample_light(
-                                        light_kind[li], light_geo, li, light_two_sided[li] != 0, px, py, pz, ua, ub)
-                                    l_row = light_spec[li]
-                                    l_scale = light_scale[li]
-                                media.nee(px, py, pz, dx, dy, dz, g, wx, wy, wz, dist, lpdf, fac, l_row, l_scale,
-                                          emit_prob[ei], medium, outer, lam, beta, rad, spec, mw, bmin, bmax, child,
-                                          count, axis, v0, e1, e2, tri_mat, mat_model, mat_medium, med_tab, eps,
-                                          stack)
+                                wx, wy, wz, dist, lpdf, fac = _emitter_sample(
+                                    ei, rnd(sampler, key, pseed, s, dim + 1, n_total),
+                                    rnd(sampler, key, pseed, s, dim + 2, n_total), px, py, pz, lam, le, v0, e1, e2,
+                                    tri_mat, mat_emis, mat_emis_scale, mat_emis_two, spec, light_kind, light_geo,
+                                    light_spec, light_scale, light_two_sided, emit_tri, emit_light, world_img,
+                                    world_dist, world_par, world_row)
+                                media.nee(px, py, pz, dx, dy, dz, g, wx, wy, wz, dist, lpdf, fac, le, emit_prob[ei],
+                                          medium, outer, lam, beta, rad, mw, bmin, bmax, child, count, axis, v0, e1,
+                                          e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack)
                             dim += 3
                             dx, dy, dz, prev_pdf = media.hg_sample(g, dx, dy, dz,
                                                                    rnd(sampler, key, pseed, s, dim, n_total),
@@ -342,7 +373,20 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                             continue
                         media.segment(medium, mw, beta, t - t_lo, False)
                     if prim < 0:
-                        if world_spec >= 0:
+                        if world_par[3] > 0.0:
+                            ti, tj, wpdf = env_lookup(world_dist, world_par, world_img.shape[1], world_img.shape[0],
+                                                      dx, dy, dz)
+                            w = 1.0
+                            if not prev_delta and world_emit >= 0:
+                                w = power_heuristic(prev_pdf, emit_prob[world_emit] * wpdf)
+                            cr = w * world_par[2] * world_img[tj, ti, 0]
+                            cg = w * world_par[2] * world_img[tj, ti, 1]
+                            cb = w * world_par[2] * world_img[tj, ti, 2]
+                            for i in range(NW):
+                                rad[i] += beta[i] * (cr * lookup(spec, world_row, lam[i])
+                                                     + cg * lookup(spec, world_row + 1, lam[i])
+                                                     + cb * lookup(spec, world_row + 2, lam[i]))
+                        elif world_spec >= 0:
                             for i in range(NW):
                                 rad[i] += beta[i] * world_scale * lookup(spec, world_spec, lam[i])
                         break
@@ -428,12 +472,24 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                             wx, wy, wz, dist, lpdf, fac, l_row, l_scale = _triangle_sample(
                                 emit_tri[ei], ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale,
                                 mat_emis_two)
-                        else:
+                            for i in range(NW):
+                                le[i] = l_scale * lookup(spec, l_row, lam[i])
+                        elif emit_light[ei] >= 0:
                             li = emit_light[ei]
                             wx, wy, wz, dist, lpdf, fac = sample_light(light_kind[li], light_geo, li,
                                                                        light_two_sided[li] != 0, px, py, pz, ua, ub)
-                            l_row = light_spec[li]
-                            l_scale = light_scale[li]
+                            for i in range(NW):
+                                le[i] = light_scale[li] * lookup(spec, light_spec[li], lam[i])
+                        else:  # the world image
+                            wx, wy, wz, lpdf, ti, tj = env_sample(world_dist, world_par, ua, ub)
+                            dist = np.inf
+                            fac = 1.0
+                            cr = world_par[2] * world_img[tj, ti, 0]
+                            cg = world_par[2] * world_img[tj, ti, 1]
+                            cb = world_par[2] * world_img[tj, ti, 2]
+                            for i in range(NW):
+                                le[i] = (cr * lookup(spec, world_row, lam[i]) + cg * lookup(spec, world_row + 1, lam[i])
+                                         + cb * lookup(spec, world_row + 2, lam[i]))
                         cos_n = nx * wx + ny * wy + nz * wz
                         if fac > 0.0 and lpdf > 0.0 and cos_n != 0.0:
                             wix = wx * tx + wy * ty + wz * tz
@@ -452,12 +508,12 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                                                     med_tab, eps, stack):
                                     pe = emit_prob[ei]
                                     if lpdf == np.inf:  # delta light: NEE only, no MIS
-                                        g = mix_w * abs(cos_n) * l_scale * fac / pe
+                                        g = mix_w * abs(cos_n) * fac / pe
                                     else:
                                         pl = pe * lpdf
-                                        g = mix_w * power_heuristic(pl, pb) * abs(cos_n) * l_scale * fac / pl
+                                        g = mix_w * power_heuristic(pl, pb) * abs(cos_n) * fac / pl
                                     for i in range(NW):
-                                        rad[i] += beta[i] * fv[i] * g * lookup(spec, l_row, lam[i])
+                                        rad[i] += beta[i] * fv[i] * g * le[i]
                     dim += 3
                     # BSDF sampling
                     wix, wiy, wiz, pdf, flags = bsdf_sample(model, pm, ra, rb, eta, kappa, wox, woy, woz,

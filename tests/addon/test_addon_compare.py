@@ -1,0 +1,56 @@
+"""Compare with Cycles: matched settings, side by side, ΔE00 map, report; Cycles settings restored."""
+import json
+import math
+
+import numpy as np
+import pytest
+
+pytestmark = pytest.mark.blender
+
+
+def diffuse_scene(b, w=24, h=24, spp=64):
+    grey = b.shader("Grey", "ShaderNodeBsdfDiffuse", Color=(0.6, 0.6, 0.6, 1.0))
+    red = b.shader("Red", "ShaderNodeBsdfDiffuse", Color=(0.7, 0.2, 0.1, 1.0))
+    b.plane("Floor", size=6.0, material=grey)
+    wall = b.plane("Back", size=6.0, location=(0, 2, 3), material=red)
+    wall.rotation_euler = (math.radians(90), 0, 0)
+    b.light("Key", "AREA", location=(0, 0, 3), energy=300.0, size=1.0)
+    b.camera(location=(0, -6, 2), rotation=(math.radians(75), 0, 0), lens=35.0)
+    b.resolution(w, h)
+    s = b.scene.spectral_gi
+    s.samples, s.max_bounces, s.seed = spp, 8, 1
+
+
+def test_compare_with_cycles_on_a_diffuse_scene(ext, bpy, tmp_path):
+    b = ext.build
+    diffuse_scene(b)
+    scene = b.scene
+    s = scene.spectral_gi
+    s.compare_output_dir = str(tmp_path)
+    before = (scene.render.engine, scene.cycles.samples, scene.cycles.use_denoising,
+              scene.cycles.use_adaptive_sampling, scene.cycles.diffuse_bounces)
+    assert bpy.ops.spectral_gi.compare_cycles() == {"FINISHED"}
+    # every setting the comparison changed is back
+    assert (scene.render.engine, scene.cycles.samples, scene.cycles.use_denoising,
+            scene.cycles.use_adaptive_sampling, scene.cycles.diffuse_bounces) == before
+
+    # Both renderers read Blender's units alike (Cycles' area light: P/(πA) radiance; 683 lm per W),
+    # so on a diffuse scene their mean luminances agree within the noise of 64 spp (~0.3 % here).
+    assert s.compare_valid
+    assert s.compare_luminance_ratio == pytest.approx(1.0, abs=0.02)
+    assert 0.0 < s.compare_relative_rmse < 0.2
+    assert 0.0 < s.compare_delta_e_mean <= s.compare_delta_e_p95 < 20.0
+
+    report = json.loads(open(s.compare_report_path, encoding="utf-8").read())
+    assert report["luminance_ratio"] == pytest.approx(s.compare_luminance_ratio, rel=1e-6)
+    assert (report["samples"], report["max_bounces"], report["width"], report["height"]) == (64, 8, 24, 24)
+    assert report["mean_luminance_reference"] > 0.0 and report["luminance_unit"] == "cd/m2"
+    for key in ("side_by_side", "delta_e00"):
+        assert (tmp_path / report["images"][key].split("/")[-1]).is_file()
+    sbs = bpy.data.images["Spectral GI vs Cycles"]
+    assert tuple(sbs.size) == (2 * 24 + 2, 24)
+    de = bpy.data.images["Spectral GI ΔE00"]
+    assert de.size[0] == 24 and de.size[1] > 24  # the map and its legend bar below
+    px = np.empty(de.size[0] * de.size[1] * 4, np.float32)
+    de.pixels.foreach_get(px)
+    assert np.isfinite(px).all() and px.max() > 0.0

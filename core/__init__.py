@@ -28,10 +28,11 @@ from .material_presets import (glass_preset, glass_preset_names, metal_preset, m
                                reflectance_preset, reflectance_preset_names, tabulate_reflectance,
                                wavelength_grid)
 from .scene import IORTable
+from .scene import Medium  # participating media (compendium item 54)
 
 __all__ = [
     "constants",
-    "Scene", "Mesh", "Material", "Light", "Camera", "World", "RenderSettings", "SpectrumTable",
+    "Scene", "Mesh", "Material", "Light", "Camera", "World", "RenderSettings", "SpectrumTable", "Medium",
     "SceneError", "validate", "load_scene", "save_scene",
     "reflectance_from_rgb", "emission_from_rgb", "reflectance_from_samples", "emission_from_samples",
     "reflectance_to_rgb", "emission_to_rgb",

@@ -17,6 +17,7 @@ from .scenes import cornell_box
 from .spectra.uplift import (emission_from_rgb, emission_from_samples, emission_to_rgb, reflectance_from_rgb,
                              reflectance_from_samples, reflectance_to_rgb)
 from .units import EMITTER_UNITS, area_light_luminance, emission_luminance, emitter_luminance
+from .colour import sRGB_decode
 from .compare import compare_images, delta_e_image, side_by_side
 from .lightunits import (LIGHT_UNITS, light_emission_coeffs, light_photometric, light_spectrum_names,
                          point_light_intensity, scene_white_xy, spot_solid_angle, sun_illuminance)
@@ -45,7 +46,7 @@ __all__ = [
     "ggx_dielectric_params",
     "wavelength_grid", "reflectance_preset_names", "metal_preset_names", "glass_preset_names",
     "reflectance_preset", "metal_preset", "glass_preset", "tabulate_reflectance",
-    "compare_images", "delta_e_image", "side_by_side",
+    "compare_images", "delta_e_image", "side_by_side", "sRGB_decode",
     "LIGHT_UNITS", "light_photometric", "light_emission_coeffs", "light_spectrum_names",
     "point_light_intensity", "spot_solid_angle", "sun_illuminance", "scene_white_xy",
 ]

@@ -183,3 +183,66 @@ def test_depth_of_field(ext, bpy):
     cam.data.dof.focus_object = target
     c, _ = export_camera(ext, bpy)
     assert c.focus_distance == pytest.approx(9.0, rel=1e-6)
+
+
+# ----------------------------------------------------------------------------- environment texture
+
+def environment_world(bpy, img, strength=2.0, rotation_z=None, vector_type="POINT"):
+    world = bpy.data.worlds.new("Sky")
+    bpy.context.scene.world = world
+    tree = world.node_tree
+    bg = next(n for n in tree.nodes if n.type == "BACKGROUND")
+    bg.inputs["Strength"].default_value = strength
+    env = tree.nodes.new("ShaderNodeTexEnvironment")
+    env.image = img
+    tree.links.new(env.outputs["Color"], bg.inputs["Color"])
+    if rotation_z is not None:
+        mapping = tree.nodes.new("ShaderNodeMapping")
+        mapping.vector_type = vector_type
+        mapping.inputs["Rotation"].default_value = (0.0, 0.0, rotation_z)
+        coords = tree.nodes.new("ShaderNodeTexCoord")
+        tree.links.new(coords.outputs["Generated"], mapping.inputs["Vector"])
+        tree.links.new(mapping.outputs["Vector"], env.inputs["Vector"])
+    return world
+
+
+def export_world(ext, bpy):
+    world_mod = importlib.import_module(MODULE + ".addon.export.world")
+    context_mod = importlib.import_module(MODULE + ".addon.export.context")
+    ctx = context_mod.ExportContext(1.0)
+    world = bpy.context.scene.world.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    return world_mod.export_world(ctx, world), ctx
+
+
+def test_environment_texture_world(ext, bpy):
+    w, h = 8, 4
+    img = bpy.data.images.new("HDRI", width=w, height=h, float_buffer=True, alpha=True)
+    px = np.zeros((h, w, 4), np.float32)  # Blender's rows bottom-up
+    px[..., 0] = np.arange(w)[None, :]  # red grows to the right
+    px[..., 1] = np.arange(h)[:, None]  # green grows upwards (row 0 of Blender's buffer is the bottom)
+    px[..., 2] = 0.5
+    px[..., 3] = 1.0
+    img.pixels.foreach_set(px.reshape(-1))
+    environment_world(bpy, img, strength=2.0)
+    W, _ = export_world(ext, bpy)
+    assert W.image is not None and W.image.dtype == np.float32 and W.image.shape == (h, w, 3)
+    np.testing.assert_allclose(W.image, px[::-1, :, :3])  # core: row 0 at the zenith
+    assert (W.image_scale, W.rotation, W.background) == (2.0, 0.0, -1)
+    # a Mapping node rotating the lookup vector by +z turns the map by -z (matched to Cycles in
+    # test_addon_compare.py::test_rotated_environment_matches_cycles)
+    environment_world(bpy, img, rotation_z=0.7)
+    assert export_world(ext, bpy)[0].rotation == pytest.approx(-0.7)
+    environment_world(bpy, img, rotation_z=0.7, vector_type="TEXTURE")  # the inverse transform
+    assert export_world(ext, bpy)[0].rotation == pytest.approx(0.7)
+    ext.core.validate(ext.core.Scene(world=W))
+
+
+def test_byte_srgb_environment_is_decoded(ext, bpy):
+    img = bpy.data.images.new("LDR", width=2, height=1, float_buffer=False)
+    img.colorspace_settings.name = "sRGB"
+    img.pixels.foreach_set(np.array([0.5, 0.5, 0.5, 1.0, 1.0, 0.0, 0.0, 1.0], np.float32))
+    environment_world(bpy, img, strength=1.0)
+    W, _ = export_world(ext, bpy)
+    # IEC 61966-2-1: sRGB 0.5 (byte 128/255 = 0.50196) is linear ((0.50196 + 0.055) / 1.055)^2.4 = 0.2158
+    assert W.image[0, 0, 0] == pytest.approx(((128 / 255 + 0.055) / 1.055) ** 2.4, rel=1e-4)
+    assert W.image[0, 1].tolist() == pytest.approx([1.0, 0.0, 0.0])

@@ -25,6 +25,9 @@ Phase function: Henyey–Greenstein, p(cos θ) = (1 − g²) / (4π (1 + g² −
 with cos θ between the incoming and outgoing travel directions (g > 0: forward), sampled
 exactly by inverting its cdf, so phase / pdf = 1.
 
+The per-event helpers are compiled as functions of their own (``function``): inlined into
+the path kernel they added over a minute to its compile time.
+
 Medium tracking keeps (medium, outer): crossing a surface towards its back side enters
 the material's interior medium (the current one becomes ``outer``), towards its front
 side returns to ``outer``. One level of nesting; the world has no medium.
@@ -100,7 +103,7 @@ def hg_eval(g, cos_theta):
     return INV_4PI * (1.0 - g * g) / (den * math.sqrt(den))
 
 
-@inline
+@function
 def hg_sample(g, dx, dy, dz, u1, u2):
     """A new travel direction after scattering a ray travelling along unit (dx, dy, dz):
     (x, y, z, pdf), pdf = phase value (exact inverse-cdf sampling)."""
@@ -145,7 +148,7 @@ def load(med_tab, medium, lam, mw):
             mw[MW_SS, i] = 0.0
 
 
-@inline
+@function
 def start_path(med_tab, medium, lam, mw):
     """Reset the spectral-MIS ratios and load the camera's medium."""
     for i in range(NW):
@@ -161,7 +164,7 @@ def crossed(medium, outer, interior, entering):
     return outer, -1
 
 
-@inline
+@function
 def cross(medium, outer, interior, entering, med_tab, lam, mw):
     """Cross a surface and reload the coefficients if the medium changes."""
     m2, o2 = crossed(medium, outer, interior, entering)
@@ -172,7 +175,7 @@ def cross(medium, outer, interior, entering, med_tab, lam, mw):
 
 # ------------------------------------------------------------------ distance sampling
 
-@inline
+@function
 def free_flight(medium, mw, u):
     """Distance to the next scattering event from the hero's extinction; inf: none
     (no medium, or one that scatters none of the path's wavelengths)."""
@@ -207,7 +210,7 @@ def _mis(mw, dist, scatter):
     return num / den
 
 
-@inline
+@function
 def segment(medium, mw, beta, dist, scatter):
     """Weight β for the medium between two events ``dist`` apart: a scattering event at
     the end (``scatter``: f = τ σs) or passing through to a surface (f = τ)."""
@@ -226,7 +229,7 @@ def segment(medium, mw, beta, dist, scatter):
             mw[MW_R, i] *= _event_pdf(st, tr, sampled, scatter) / p0
 
 
-@inline
+@function
 def arrival(medium, mw, dist):
     """Factors (into mw[MW_TR]) for light reaching the segment's start from an emitter at
     ``dist`` inside the current medium (1 outside media)."""

@@ -76,12 +76,14 @@ def enabled_passes(view_layer):
     return [(name, n, chan, kind) for name, n, chan, kind, prop, _attr in PASS_SPECS if getattr(settings, prop, False)]
 
 
-def pass_arrays(developed, names, alpha=None):
+def pass_arrays(developed, names, transparent=False):
     """{pass name: (H, W, C) float32 array, rows top-to-bottom} for Combined and the passes in ``names``.
 
-    Combined is linear Rec.709 with ``alpha`` (1 if None). A pass whose data the core's
-    development does not provide (an older core) is filled with zeros and listed in the
-    second return value.
+    Combined is linear Rec.709 with alpha 1; with ``transparent`` (Blender's Film >
+    Transparent) pixels whose camera ray hit nothing (no finite first-hit depth) get alpha
+    0 and black, as a premultiplied image (a pixel's coverage is that of its first hits,
+    not filtered). A pass whose data the core's development does not provide (an older
+    core) is filled with zeros and listed in the second return value.
     """
     import numpy as np
 
@@ -90,7 +92,11 @@ def pass_arrays(developed, names, alpha=None):
     out = {}
     combined = np.empty((h, w, 4), dtype=np.float32)
     combined[..., :3] = rgb
-    combined[..., 3] = 1.0 if alpha is None else alpha
+    combined[..., 3] = 1.0
+    depth = getattr(developed, "depth", None)
+    if transparent and depth is not None:
+        hit = np.isfinite(np.asarray(depth).reshape(h, w))
+        combined[~hit] = 0.0
     out["Combined"] = combined
     missing = []
     specs = {s[0]: s for s in PASS_SPECS}

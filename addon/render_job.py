@@ -305,6 +305,7 @@ def render_with_engine(engine, depsgraph):
 
         white_balance = scene_white_xy(core_scene)
     names = [p[0] for p in enabled_passes(view_layer)]
+    transparent = bool(scene.render.film_transparent)
 
     result = engine.begin_result(0, 0, width, height, layer=view_layer.name)
     layer = result.layers[0]
@@ -322,7 +323,7 @@ def render_with_engine(engine, depsgraph):
         if now - clock["last"] < clock["interval"] or film.spp >= total:
             return  # the last pass is written in full below
         t0 = time.perf_counter()
-        arrays, _ = pass_arrays(_develop(film, white_balance), [])
+        arrays, _ = pass_arrays(_develop(film, white_balance), [], transparent)
         write_result_passes(layer, arrays)
         engine.update_result(result)
         clock["shown"] = film.spp
@@ -337,7 +338,7 @@ def render_with_engine(engine, depsgraph):
         film, stats = render(core_scene, threads=engine_threads(scene), progress=progress,
                              should_cancel=engine.test_break, on_pass=on_pass, status=status)
         if film.spp > 0:
-            arrays, missing = pass_arrays(_develop(film, white_balance), names)
+            arrays, missing = pass_arrays(_develop(film, white_balance), names, transparent)
             write_result_passes(layer, arrays)
             if missing:
                 engine.report({"WARNING"}, "Spectral GI: this build of the renderer does not produce the "

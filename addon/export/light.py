@@ -135,8 +135,6 @@ def export_light(ctx, obj, matrix, name):
         intensity = _photometric(name, kind, unit, amount, rgb=rgb, spot_angle=spot_angle, spot_blend=spot_blend)
         if kind == "SPOT" and not has_uniform_scale(matrix):
             ctx.note(f"{name}: non-uniform scale of a spot light ignored (its cone stays circular)")
-        if getattr(data, "use_soft_falloff", False) and radius > 0.0:
-            ctx.note(f"{name}: soft falloff ignored (exported as a sphere of uniform radiance)")
         return Light(
             name=name, kind=constants.LIGHT_SPOT if kind == "SPOT" else constants.LIGHT_POINT,
             position=position, axis_u=zero, axis_v=zero, spectrum=spectrum,

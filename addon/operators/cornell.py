@@ -9,16 +9,20 @@ def _colour(rgb):
     return tuple(max(0.0, float(c)) for c in rgb[:3])
 
 
-def _principled(name, rgb):
+def _diffuse(name, rgb):
+    """A Diffuse BSDF material: the published box is Lambertian (a Principled BSDF would add a glossy coat)."""
     mat = bpy.data.materials.new(name)
     mat.diffuse_color = (*rgb, 1.0)
     tree = mat.node_tree
     if tree is None:  # Blender < 5.0
         mat.use_nodes = True
         tree = mat.node_tree
-    node = next((n for n in tree.nodes if n.type == "BSDF_PRINCIPLED"), None)
-    if node is not None:
-        node.inputs["Base Color"].default_value = (*rgb, 1.0)
+    tree.nodes.clear()
+    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    bsdf = tree.nodes.new("ShaderNodeBsdfDiffuse")
+    bsdf.inputs["Color"].default_value = (*rgb, 1.0)
+    bsdf.inputs["Roughness"].default_value = 0.0
+    tree.links.new(bsdf.outputs["BSDF"], out.inputs["Surface"])
     return mat
 
 
@@ -112,7 +116,7 @@ to the scene, with its camera as the active camera, a black world and a 256 × 2
                 materials[m.name] = _emission(f"Cornell {m.name}", _colour(rgb), float(strength))
             else:
                 rgb = reflectance_to_rgb(ref.spectra.coeffs[m.reflectance])
-                materials[m.name] = _principled(f"Cornell {m.name}", _colour(rgb))
+                materials[m.name] = _diffuse(f"Cornell {m.name}", _colour(rgb))
 
         for mesh in ref.meshes:
             me = bpy.data.meshes.new(f"Cornell {mesh.name}")

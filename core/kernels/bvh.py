@@ -25,7 +25,7 @@ from numba import prange
 from ..jit import inline, kernel
 
 N_BINS = 16
-MAX_LEAF = 4  # ranges this small always become leaves
+MAX_LEAF = 8  # ranges this small always become leaves (fewer nodes, same ray speed as 4)
 MAX_LEAF_SAH = 16  # SAH may keep ranges up to this size as leaves
 FALLBACK_DEPTH = 32
 MAX_DEPTH = FALLBACK_DEPTH + 32

@@ -187,3 +187,18 @@ def test_export_errors_are_reported_not_raised(ext, bpy, tmp_path):
     # Blender refuses F12 without a camera before calling the engine; the engine's own guard:
     engine.render(Fake(), bpy.context.evaluated_depsgraph_get())
     assert reports and reports[0][0] == {"ERROR"} and "no active camera" in reports[0][1]
+
+
+def test_transparent_film(ext, bpy, tmp_path):
+    b = ext.build
+    engine_scene(b, spp=2)
+    b.scene.render.film_transparent = True
+    render_still(bpy, tmp_path / "alpha.exr")
+    ch = read_multilayer(tmp_path / "alpha.exr")
+    dev = ext.core.render(b.export(ext).scene)[0].develop()
+    if getattr(dev, "depth", None) is None:
+        pytest.skip("this core has no depth AOV (alpha stays 1)")
+    hit = np.isfinite(dev.depth)
+    assert hit.any() and (~hit).any()
+    np.testing.assert_array_equal(ch["Combined.A"], hit.astype(np.float64))  # sky rows: alpha 0
+    assert np.all(ch["Combined.R"][~hit] == 0.0)  # premultiplied: no colour where nothing was hit

@@ -1,0 +1,266 @@
+"""BVH at scale: build time, memory and ray throughput for millions of triangles (issue #5).
+
+    python benchmarks/scale_bench.py [--sizes 1,4,16] [--rays 1000000] [--threads 2]
+
+The scene is a fixed world whose tessellation grows with the triangle count, so a ray
+meets the same surfaces at every size and only the tree gets deeper: 256 displaced
+spheres (cube-spheres, each face an n×n grid of quads, radius perturbed by four random
+waves) in 8 Gaussian clusters, standing on a tessellated ground plane that holds ~1/8 of
+the triangles. ``n`` is chosen so the total is close to the requested number of millions.
+
+For each size it prints
+
+* the build time of ``accel.build`` (float32 corners in) and the time per million triangles,
+* the bytes per triangle the renderer keeps (``BVH.nbytes``: node arrays, leaf-order
+  triangles, ``prims``) and the peak extra resident memory of the build (VmHWM reset
+  through /proc/self/clear_refs just before it; the corner arrays already exist),
+* tree statistics (nodes, depth, mean leaf size, SAH cost),
+* closest-hit rays/s: ``--rays`` rays from 16 camera positions on a ring around the scene,
+  each in a random direction within a 60° cone aimed at the scene centre,
+* occlusion rays/s: shadow segments from the hit points of those rays to 4 jittered
+  points of an area light above the scene,
+
+both with the batch kernels (``trace_closest_batch``, ``trace_occluded_batch``) under
+``--threads`` threads, as wall-clock rates and per CPU second (the machine is shared:
+wall-clock rates drop when others run, rays per CPU second much less), and the ratio of
+each per-CPU-second rate to the smallest size's next to log2(N0)/log2(N): a throughput
+that falls only logarithmically keeps the ratio at or above that column. Compile time
+is excluded (kernels are warmed on a small scene first). No thresholds: the figures are
+for reading.
+"""
+import argparse
+import math
+import re
+import time
+
+import numpy as np
+
+N_SPHERES = 256
+GROUND_FRACTION = 1.0 / 8.0
+
+
+def _cube_sphere(n):
+    """Unit-sphere vertex directions and faces of a normalized cube, each face n×n quads.
+
+    Returns (dirs (6 (n+1)², 3), faces (12 n², 3)); faces are counter-clockwise seen
+    from outside. Vertices on the cube's edges are duplicated (the mesh is not welded).
+    """
+    s = np.linspace(-1.0, 1.0, n + 1)
+    a, b = np.meshgrid(s, s, indexing="ij")
+    a = a.ravel()
+    b = b.ravel()
+    one = np.ones_like(a)
+    faces_pts = []
+    for axis in range(3):
+        for sign in (-1.0, 1.0):
+            p = np.empty((a.size, 3))
+            p[:, axis] = sign * one
+            u, v = (axis + 1) % 3, (axis + 2) % 3
+            if sign > 0:
+                p[:, u] = a
+                p[:, v] = b
+            else:
+                p[:, u] = b
+                p[:, v] = a
+            faces_pts.append(p)
+    dirs = np.concatenate(faces_pts)
+    dirs /= np.linalg.norm(dirs, axis=1)[:, None]
+    i, j = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    q00 = (i * (n + 1) + j).ravel()
+    q10 = q00 + (n + 1)
+    q01 = q00 + 1
+    q11 = q10 + 1
+    quad = np.concatenate([np.stack([q00, q10, q11], 1), np.stack([q00, q11, q01], 1)])
+    faces = np.concatenate([quad + f * (n + 1) ** 2 for f in range(6)])
+    return dirs, faces
+
+
+def make_scene(n_target, seed=1):
+    """(v0, v1, v2) float32 (T, 3) triangle corners of the benchmark world, T ≈ n_target."""
+    rng = np.random.default_rng(seed)
+    n_sphere_tris = n_target * (1.0 - GROUND_FRACTION)
+    n = max(2, int(round(math.sqrt(n_sphere_tris / (12.0 * N_SPHERES)))))
+    dirs, faces = _cube_sphere(n)
+    clusters = rng.uniform([-12, -12, 1], [12, 12, 6], (8, 3))
+    centre = clusters[rng.integers(0, 8, N_SPHERES)] + rng.normal(0, 2.5, (N_SPHERES, 3))
+    centre[:, 2] = np.abs(centre[:, 2])
+    radius = np.exp(rng.uniform(np.log(0.3), np.log(1.6), N_SPHERES))
+    n_tri = N_SPHERES * faces.shape[0]
+    g = max(1, int(round(math.sqrt(n_target * GROUND_FRACTION / 2.0))))
+    total = n_tri + 2 * g * g
+    out = [np.empty((total, 3), np.float32) for _ in range(3)]
+    f = faces.shape[0]
+    for k in range(N_SPHERES):
+        w = rng.normal(size=(4, 3))
+        w /= np.linalg.norm(w, axis=1)[:, None]
+        freq = rng.uniform(2.0, 9.0, 4)
+        amp = rng.uniform(0.02, 0.12, 4)
+        phase = rng.uniform(0, 2 * np.pi, 4)
+        r = 1.0 + np.sin((dirs @ w.T) * freq + phase) @ amp
+        pts = (centre[k] + radius[k] * r[:, None] * dirs).astype(np.float32)
+        for c in range(3):
+            out[c][k * f:(k + 1) * f] = pts[faces[:, c]]
+    # ground: a g×g grid of quads over [-20, 20]², gently rolling
+    s = np.linspace(-20.0, 20.0, g + 1)
+    x, y = np.meshgrid(s, s, indexing="ij")
+    z = 0.15 * np.sin(0.7 * x) * np.cos(0.5 * y) - 1.0
+    grid = np.stack([x, y, z], -1).reshape(-1, 3).astype(np.float32)
+    i, j = np.meshgrid(np.arange(g), np.arange(g), indexing="ij")
+    q00 = (i * (g + 1) + j).ravel()
+    q10 = q00 + (g + 1)
+    tri = np.concatenate([np.stack([q00, q10, q10 + 1], 1), np.stack([q00, q10 + 1, q00 + 1], 1)])
+    for c in range(3):
+        out[c][n_tri:] = grid[tri[:, c]]
+    return out
+
+
+def camera_rays(n_rays, seed=2):
+    """Origins on a ring around the scene and directions in a 60° cone towards its centre."""
+    rng = np.random.default_rng(seed)
+    ang = np.arange(16) * (2 * np.pi / 16)
+    cams = np.stack([30 * np.cos(ang), 30 * np.sin(ang), 8 + 4 * np.sin(3 * ang)], 1)
+    k = rng.integers(0, 16, n_rays)
+    o = cams[k]
+    axis = np.array([0.0, 0.0, 2.0]) - o
+    axis /= np.linalg.norm(axis, axis=1)[:, None]
+    # uniform directions in the cone of half-angle 30° about each axis
+    cos_max = math.cos(math.radians(30.0))
+    cz = rng.uniform(cos_max, 1.0, n_rays)
+    phi = rng.uniform(0, 2 * np.pi, n_rays)
+    sz = np.sqrt(1.0 - cz * cz)
+    helper = np.where(np.abs(axis[:, :1]) < 0.9, [[1.0, 0, 0]], [[0, 1.0, 0]])
+    t1 = np.cross(axis, helper)
+    t1 /= np.linalg.norm(t1, axis=1)[:, None]
+    t2 = np.cross(axis, t1)
+    d = axis * cz[:, None] + t1 * (sz * np.cos(phi))[:, None] + t2 * (sz * np.sin(phi))[:, None]
+    return np.ascontiguousarray(o), np.ascontiguousarray(d)
+
+
+def shadow_rays(o, d, t, seed=3):
+    """Segments from the hit points (nudged back along the ray) to an area light above."""
+    rng = np.random.default_rng(seed)
+    hit = np.isfinite(t)
+    p = o[hit] + (t[hit] * (1.0 - 1e-5))[:, None] * d[hit]
+    light = np.array([[-6.0, 4.0, 25.0], [5.0, -3.0, 25.0], [0.0, 0.0, 25.0], [8.0, 8.0, 25.0]])
+    q = light[rng.integers(0, 4, p.shape[0])] + rng.uniform(-2, 2, (p.shape[0], 3)) * [1, 1, 0]
+    w = q - p
+    dist = np.linalg.norm(w, axis=1)
+    return np.ascontiguousarray(p), np.ascontiguousarray(w / dist[:, None]), dist
+
+
+def _status(key):
+    with open("/proc/self/status") as f:
+        return int(re.search(key + r":\s+(\d+)", f.read()).group(1)) * 1024
+
+
+def _reset_peak():
+    try:
+        with open("/proc/self/clear_refs", "w") as f:
+            f.write("5")
+        return True
+    except OSError:
+        return False
+
+
+def tree_stats(bvh):
+    """(depth, mean leaf size, SAH cost with unit traversal and intersection costs)."""
+    from spectral_gi.core.accel import tree_depth
+
+    leaves = bvh.count > 0
+    ext = (bvh.bmax - bvh.bmin).astype(np.float64)
+    area = 2 * (ext[:, 0] * ext[:, 1] + ext[:, 1] * ext[:, 2] + ext[:, 2] * ext[:, 0])
+    rel = area / area[0]
+    cost = rel[~leaves].sum() + (rel[leaves] * bvh.count[leaves]).sum()
+    return tree_depth(bvh), bvh.count[leaves].mean(), cost
+
+
+def run(size_m, n_rays, reps=3):
+    from spectral_gi.core import accel
+    from spectral_gi.core.kernels import bvh as K
+
+    v0, v1, v2 = make_scene(int(size_m * 1_000_000))
+    n = v0.shape[0]
+    # warm the compiled kernels on a small scene so compile time is not counted
+    w0, w1, w2 = make_scene(20_000)
+    wb = accel.build(w0, w1, w2)
+    wo, wd = camera_rays(1000)
+    accel.closest(wb, wo, wd)
+    accel.occluded(wb, wo, wd, np.full(1000, 10.0))
+    del wb
+
+    ok = _reset_peak()
+    base = _status("VmRSS")
+    t0 = time.perf_counter()
+    c0 = time.thread_time()
+    bvh = accel.build(v0, v1, v2)  # serial kernel on this thread
+    cpu_build = time.thread_time() - c0
+    t_build = time.perf_counter() - t0
+    peak = _status("VmHWM") - base if ok else float("nan")
+    depth, leaf, cost = tree_stats(bvh)
+
+    o, d = camera_rays(n_rays)
+    tm = np.full(n_rays, np.inf)
+    best = best_cpu = np.inf
+    for _ in range(reps):
+        t0 = time.perf_counter()
+        c0 = time.process_time()
+        t, p = K.trace_closest_batch(o, d, tm, bvh.bmin, bvh.bmax, bvh.child, bvh.count, bvh.axis,
+                                     bvh.v0, bvh.e1, bvh.e2)
+        best = min(best, time.perf_counter() - t0)
+        best_cpu = min(best_cpu, time.process_time() - c0)
+    closest_rate = n_rays / best
+    closest_cpu = n_rays / best_cpu
+    so, sd, sdist = shadow_rays(o, d, t)
+    best = best_cpu = np.inf
+    for _ in range(reps):
+        t0 = time.perf_counter()
+        c0 = time.process_time()
+        occ = K.trace_occluded_batch(so, sd, sdist, bvh.bmin, bvh.bmax, bvh.child, bvh.count,
+                                     bvh.v0, bvh.e1, bvh.e2)
+        best = min(best, time.perf_counter() - t0)
+        best_cpu = min(best_cpu, time.process_time() - c0)
+    occ_rate = so.shape[0] / best
+    occ_cpu = so.shape[0] / best_cpu
+    return dict(n=n, build=t_build, build_cpu=cpu_build, closest_cpu=closest_cpu, occluded_cpu=occ_cpu, kept=bvh.nbytes / n, peak=peak / n, nodes=bvh.n_nodes, depth=depth,
+                leaf=leaf, cost=cost, hit=np.isfinite(t).mean(), occ=occ.mean(), closest=closest_rate,
+                occluded=occ_rate)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--sizes", default="1,4,16", help="comma-separated millions of triangles")
+    ap.add_argument("--rays", type=int, default=1_000_000)
+    ap.add_argument("--threads", type=int, default=2)
+    args = ap.parse_args()
+    from spectral_gi.core.jit import set_threads
+
+    threads = set_threads(args.threads)
+    sizes = [float(s) for s in args.sizes.split(",") if s.strip()]
+    rows = []
+    for s in sizes:
+        r = run(s, args.rays)
+        rows.append(r)
+        print(f"{r['n']:>10,d} tris: build {r['build']:6.2f} s ({r['build'] / r['n'] * 1e6:5.2f} s/M, "
+              f"CPU {r['build_cpu']:.2f} s), "
+              f"kept {r['kept']:5.1f} B/tri, peak build {r['peak']:5.1f} B/tri, {r['nodes']:,d} nodes, "
+              f"depth {r['depth']}, leaf {r['leaf']:.2f}, SAH {r['cost']:.1f}; "
+              f"closest {r['closest'] / 1e6:5.2f} Mrays/s (hit {r['hit']:.2f}), "
+              f"occlusion {r['occluded'] / 1e6:5.2f} Mrays/s (blocked {r['occ']:.2f}); per CPU second: "
+              f"closest {r['closest_cpu'] / 1e6:.2f} M, occlusion {r['occluded_cpu'] / 1e6:.2f} M", flush=True)
+    print(f"\n{threads} threads, {args.rays:,d} camera rays per pass (best of 3); rates are wall-clock, "
+          "'/CPU-s' ones per CPU second of all threads (steadier on a shared machine); ratios use the latter")
+    print("| triangles | build s (CPU s) | s per M | kept B/tri | peak build B/tri | depth | closest Mrays/s "
+          "| occlusion Mrays/s | closest M/CPU-s | occlusion M/CPU-s | closest ratio | occlusion ratio "
+          "| log2(N0)/log2(N) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    r0 = rows[0]
+    for r in rows:
+        print(f"| {r['n']:,d} | {r['build']:.2f} ({r['build_cpu']:.2f}) | {r['build'] / r['n'] * 1e6:.2f} "
+              f"| {r['kept']:.1f} | {r['peak']:.1f} | {r['depth']} | {r['closest'] / 1e6:.2f} "
+              f"| {r['occluded'] / 1e6:.2f} | {r['closest_cpu'] / 1e6:.2f} | {r['occluded_cpu'] / 1e6:.2f} "
+              f"| {r['closest_cpu'] / r0['closest_cpu']:.3f} | {r['occluded_cpu'] / r0['occluded_cpu']:.3f} "
+              f"| {math.log2(r0['n']) / math.log2(r['n']):.3f} |")
+
+
+if __name__ == "__main__":
+    main()

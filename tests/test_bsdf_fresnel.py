@@ -141,3 +141,42 @@ def test_degenerate_fresnel_inputs_are_finite():
     assert all(math.isfinite(v) and 0.0 <= v <= 1.0 for v in vals)
     assert F.fresnel_dielectric(0.0, 1.0) == 0.0  # no interface
     assert F.fresnel_dielectric(0.0, 1.5) == 1.0  # grazing limit
+
+
+def _diffuse_reflectance_oracle(eta):
+    """2 ∫₀¹ R(μ) μ dμ of the complex-amplitude oracle, split at the critical cosine."""
+    from scipy.integrate import quad
+
+    def f(mu):
+        rs, rp = oracle_sp(mu, eta)
+        return float(rs + rp) * mu  # 2 · (R_s + R_p)/2 · μ
+
+    pts = [math.sqrt(1.0 - eta * eta)] if eta < 1.0 else None
+    return quad(f, 0.0, 1.0, points=pts, epsabs=1e-14, epsrel=1e-13, limit=400)[0]
+
+
+@pytest.mark.parametrize("eta", [1.0002, 1.0009, 1.001, 1.003, 1.05, 1.33, 1.5, 2.4, 4.0, 50.0])
+def test_fresnel_diffuse_reflectance(eta):
+    """F̄(η) = 2 ∫ F(μ) μ dμ (the plastic's normalisation) from the outside and the inside,
+    against quadrature of the oracle; known values 0.0918 (η 1.5) and 0.5963 from inside glass."""
+    tol = 1e-9 if eta >= 1.001 else 2e-6
+    for e in (eta, 1.0 / eta):
+        assert F.fresnel_diffuse_reflectance(e) == pytest.approx(_diffuse_reflectance_oracle(e), abs=tol)
+    # the identity used for η < 1: 1 − F̄(1/n) = (1 − F̄(n)) / n²
+    assert 1.0 - F.fresnel_diffuse_reflectance(1.0 / eta) == pytest.approx(
+        (1.0 - F.fresnel_diffuse_reflectance(eta)) / eta ** 2, rel=1e-12)
+    if eta == 1.5:
+        assert F.fresnel_diffuse_reflectance(1.5) == pytest.approx(0.091778, abs=1e-6)
+        assert F.fresnel_diffuse_reflectance(1.0 / 1.5) == pytest.approx(0.596346, abs=1e-6)
+
+
+def test_fresnel_diffuse_reflectance_limits():
+    assert F.fresnel_diffuse_reflectance(1.0) == 0.0
+    for bad in (0.0, -1.0, math.nan, math.inf):
+        assert F.fresnel_diffuse_reflectance(bad) == 0.0
+    big = F.fresnel_diffuse_reflectance(1e12)
+    assert 1.0 - 1e-5 < big < 1.0
+    assert F.fresnel_diffuse_reflectance(1e-12) == pytest.approx(1.0, abs=1e-15)
+    # continuous across the interpolated stretch near 1
+    a, b = F.fresnel_diffuse_reflectance(1.001 - 1e-12), F.fresnel_diffuse_reflectance(1.001 + 1e-12)
+    assert a == pytest.approx(b, abs=1e-10)

@@ -180,3 +180,55 @@ def test_fresnel_diffuse_reflectance_limits():
     # continuous across the interpolated stretch near 1
     a, b = F.fresnel_diffuse_reflectance(1.001 - 1e-12), F.fresnel_diffuse_reflectance(1.001 + 1e-12)
     assert a == pytest.approx(b, abs=1e-10)
+
+
+# -- Gulbrandsen 2014: artist-friendly conductor parameters ------------------------------------
+
+def test_conductor_from_colour_round_trip():
+    """R(0°) of the resulting (η, κ) is the reflectivity r, grazing incidence reflects
+    everything, and colour_from_conductor gives (r, g) back."""
+    from spectral_gi.core.bsdfs.artist import colour_from_conductor, conductor_from_colour
+    rng = np.random.default_rng(4)
+    r = np.concatenate([rng.random(400), [1e-6, 0.02, 0.5, 0.95, 0.999, 0.9999]])
+    g = np.concatenate([rng.random(400), [0.0, 1.0, 0.5, 0.999, 0.0, 1.0]])
+    eta, kappa = conductor_from_colour(r, g)
+    assert eta.shape == r.shape and np.all(eta > 0) and np.all(kappa >= 0)
+    for ri, e, k in zip(r, eta, kappa):
+        assert F.fresnel_conductor(1.0, e, k) == pytest.approx(ri, abs=1e-6)
+        assert F.normal_incidence_reflectance(e, k) == pytest.approx(ri, rel=1e-9)
+        assert F.fresnel_conductor(0.0, e, k) == 1.0
+        # ... approached continuously (1 − F ∝ cos θ near grazing, slope ~|N|)
+        assert 1.0 - F.fresnel_conductor(1e-9, e, k) < 1e-5
+        assert F.fresnel_conductor(1e-9, e, k) >= F.fresnel_conductor(1e-5, e, k) - 1e-12
+        # against the complex-amplitude oracle at an oblique angle
+        rs, rp = oracle_sp(0.3, complex(e, k))
+        assert F.fresnel_conductor(0.3, e, k) == pytest.approx(0.5 * (rs + rp), rel=1e-9)
+    r2, g2 = colour_from_conductor(eta, kappa)
+    np.testing.assert_allclose(r2, r, rtol=1e-9, atol=1e-15)
+    ok = r > 1e-3  # g is ill-conditioned where η_max − η_min → 0
+    np.testing.assert_allclose(g2[ok], g[ok], atol=1e-7)
+
+
+def test_conductor_from_colour_edge_tint_and_validation():
+    """g = 0 is the κ = 0 end (η_max), g = 1 the η_min end; a larger edge tint reflects
+    more near grazing at equal r; clipping and clear errors."""
+    from spectral_gi.core.bsdfs.artist import conductor_from_colour
+    r = 0.6
+    e0, k0 = conductor_from_colour(r, 0.0)
+    e1, k1 = conductor_from_colour(r, 1.0)
+    sr = math.sqrt(r)
+    assert float(e0) == pytest.approx((1 + sr) / (1 - sr), rel=1e-12) and float(k0) == pytest.approx(0.0, abs=1e-6)
+    assert float(e1) == pytest.approx((1 - r) / (1 + r), rel=1e-12)
+    assert float(k1) == pytest.approx(2 * sr / (1 + r), rel=1e-12)  # κ² = 4r/(1+r)² there
+    c80 = math.cos(math.radians(80.0))
+    assert F.fresnel_conductor(c80, float(e1), float(k1)) > F.fresnel_conductor(c80, float(e0), float(k0))
+    # per-wavelength arrays broadcast; r is clipped to [0, 0.9999] and g to [0, 1]
+    eta, kappa = conductor_from_colour([0.9, 1.5, -0.2], 0.5)
+    assert eta.shape == (3,) and np.all(np.isfinite(eta)) and np.all(np.isfinite(kappa))
+    assert F.normal_incidence_reflectance(eta[1], kappa[1]) == pytest.approx(0.9999, rel=1e-9)
+    assert (eta[2], kappa[2]) == (1.0, 0.0)
+    np.testing.assert_array_equal(conductor_from_colour(0.5, 2.0)[0], conductor_from_colour(0.5, 1.0)[0])
+    with pytest.raises(ValueError, match="r .*NaN"):
+        conductor_from_colour([0.5, math.nan], 0.5)
+    with pytest.raises(ValueError, match="edge tint.*NaN"):
+        conductor_from_colour(0.5, [math.nan])

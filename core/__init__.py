@@ -24,7 +24,8 @@ from .lightunits import (LIGHT_UNITS, light_emission_coeffs, light_photometric, 
 # materials: BSDF parameter rows, IOR tables and named spectral presets (the add-on's material export)
 from .bsdfs.params import (blinn_phong_params, conductor_params, dielectric_params, ggx_conductor_params,
                            ggx_dielectric_params, lafortune_params, lambert_params, make_params, mirror_params,
-                           phong_params, ward_params)
+                           phong_params, plastic_params, ward_params)
+from .bsdfs.artist import conductor_from_colour
 from .material_presets import (glass_preset, glass_preset_names, metal_preset, metal_preset_names,
                                reflectance_preset, reflectance_preset_names, tabulate_reflectance,
                                wavelength_grid)
@@ -43,7 +44,7 @@ __all__ = [
     "cornell_box", "load_cornell_box_data",
     "IORTable", "make_params", "lambert_params", "phong_params", "blinn_phong_params", "ward_params",
     "lafortune_params", "mirror_params", "dielectric_params", "conductor_params", "ggx_conductor_params",
-    "ggx_dielectric_params",
+    "ggx_dielectric_params", "plastic_params", "conductor_from_colour",
     "wavelength_grid", "reflectance_preset_names", "metal_preset_names", "glass_preset_names",
     "reflectance_preset", "metal_preset", "glass_preset", "tabulate_reflectance",
     "compare_images", "delta_e_image", "side_by_side", "sRGB_decode",

@@ -45,6 +45,9 @@ CASES = {
     "ggx_diel_0.5": (C.MAT_GGX_DIELECTRIC, B.ggx_dielectric_params(0.5), RA, RB, ETA, 0.0),
     "ggx_diel_0.05": (C.MAT_GGX_DIELECTRIC, B.ggx_dielectric_params(0.05), RA, RB, ETA, 0.0),
     "ggx_diel_aniso": (C.MAT_GGX_DIELECTRIC, B.ggx_dielectric_params(0.1, 0.4), RA, RB, ETA, 0.0),
+    "plastic_0.3": (C.MAT_PLASTIC, B.plastic_params(0.3), RA, RB, ETA, 0.0),
+    "plastic_0.05_eta2.4": (C.MAT_PLASTIC, B.plastic_params(0.05), RA, RB, np.full(NW, 2.4), 0.0),
+    "plastic_aniso_bk7": (C.MAT_PLASTIC, B.plastic_params(0.05, 0.4), RA, RB, glass_ior("N-BK7", WL), 0.0),
 }
 DELTA_CASES = {
     "mirror": (C.MAT_MIRROR, B.mirror_params(), RA, RB, ETA, 0.0),
@@ -294,13 +297,185 @@ def test_ward_normalisations():  # item 49
 
 
 def test_albedo_tools_agree():  # item 46
-    for name in ("phong_n3", "ward_iso_0.3", "lafortune_3", "ggx_cond_0.5", "ggx_diel_0.5"):
+    for name in ("phong_n3", "ward_iso_0.3", "lafortune_3", "ggx_cond_0.5", "ggx_diel_0.5", "plastic_0.3"):
         model, p, ra, rb, eta, kappa = CASES[name]
         for th in (0.0, 60.0):
             a = albedo(model, p, ra, rb, eta, kappa, math.radians(th), n_samples=200000, seed=9)
             q = albedo_quadrature(model, p, ra, rb, eta, kappa, math.radians(th), n_theta=256, n_phi=256)
             np.testing.assert_allclose(a.reflectance, q.reflectance, atol=6 * a.reflectance_se.max() + 2e-3)
             np.testing.assert_allclose(a.transmittance, q.transmittance, atol=6 * a.transmittance_se.max() + 2e-3)
+
+
+# -- plastic: rough dielectric coat over a Lambertian base ---------------------------------
+
+def np_fresnel(mu, eta):
+    """Unpolarised dielectric Fresnel factor for 0 ≤ μ ≤ 1 from the outside (η > 1), written
+    from the amplitude coefficients (Hecht §4.6)."""
+    st2 = 1.0 - mu * mu
+    ct = np.sqrt(1.0 - st2 / eta ** 2)
+    rs = (mu - eta * ct) / (mu + eta * ct)
+    rp = (eta * mu - ct) / (eta * mu + ct)
+    return 0.5 * (rs ** 2 + rp ** 2)
+
+
+def np_fresnel_average(eta, n=64):
+    """2 ∫ F μ dμ by Gauss–Legendre (F is analytic on [0, 1] for η > 1: 64 nodes are exact
+    to rounding for the η ≥ 1.4 used here)."""
+    mu, w = np.polynomial.legendre.leggauss(n)
+    mu, w = 0.5 * (mu + 1.0), 0.5 * w
+    return 2.0 * np.sum(w * np_fresnel(mu, eta) * mu)
+
+
+def np_plastic(ax, ay, ra, rb, eta, wo, wi):
+    """The NumPy oracle of plastic.py: (f (N, NW), pdf (N,)) for wo, wi (N, 3) on the upper side."""
+    h = wo + wi
+    h /= np.linalg.norm(h, axis=1)[:, None]
+    d = 1.0 / (np.pi * ax * ay * ((h[:, 0] / ax) ** 2 + (h[:, 1] / ay) ** 2 + h[:, 2] ** 2) ** 2)
+
+    def lam(w):
+        return 0.5 * (-1.0 + np.sqrt(1.0 + (ax ** 2 * w[:, 0] ** 2 + ay ** 2 * w[:, 1] ** 2) / w[:, 2] ** 2))
+
+    g2 = 1.0 / (1.0 + lam(wo) + lam(wi))
+    g1 = 1.0 / (1.0 + lam(wo))
+    co, ci, coh = wo[:, 2:3], wi[:, 2:3], np.sum(wo * h, axis=1)[:, None]
+    fo, fi, fh = np_fresnel(co, eta), np_fresnel(ci, eta), np_fresnel(coh, eta)
+    fbar = np.array([np_fresnel_average(e) for e in eta])
+    f = rb * fh * (d * g2)[:, None] / (4 * co * ci) + ra / np.pi * (1 - fo) * (1 - fi) / (1 - fbar)
+    pc = np.sum(rb * fo, axis=1) / np.sum(rb * fo + ra * (1 - fo), axis=1)
+    pdf = pc * g1 * d / (4 * co[:, 0]) + (1 - pc) * ci[:, 0] / np.pi
+    return f, pdf
+
+
+def test_plastic_matches_the_numpy_oracle():
+    rng = np.random.default_rng(21)
+    wo, wi = random_dirs(rng, 3000), random_dirs(rng, 3000)
+    eta = np.array([1.45, 1.5, 1.62, 2.4])
+    for ax, ay in ((0.3, 0.3), (0.05, 0.4), (0.01, 0.01)):
+        f, pd = B.evaluate(C.MAT_PLASTIC, B.plastic_params(ax, ay), RA, RB, eta, 0.0, wo, wi)
+        f_ref, pd_ref = np_plastic(ax, ay, RA, RB, eta, wo, wi)
+        np.testing.assert_allclose(f, f_ref, rtol=1e-9)
+        np.testing.assert_allclose(pd, pd_ref, rtol=1e-9)
+
+
+WHITE_PLASTIC_SETS = [(1.5, 0.1, None), (1.5, 0.5, None), (1.33, 0.05, None), (2.4, 0.3, None), (1.1, 0.02, None),
+                      (1.5, 0.05, 0.4), (3.0, 1.0, None)]
+PLASTIC_ANGLES = (0.0, 15.0, 30.0, 45.0, 60.0, 75.0, 85.0, 89.0, 89.9)
+
+
+@pytest.mark.parametrize("eta,ax,ay", WHITE_PLASTIC_SETS)
+def test_plastic_albedo_at_most_one(eta, ax, ay):
+    """White base and white coat at 0-89.9°: the base reflects exactly ρ (1 − F(cos θo))
+    (the coupling's normalisation; a smooth integrand, so quadrature is exact to 1e-9),
+    the coat its GGX single-scattering albedo E_s (importance-sampled with ra = 0: weights
+    F G2/G1, standard error ~1e-5), and the total E_s + 1 − F stays ≤ 1 + 1e-3 (E_s
+    exceeds F by ≤ 7.3e-4 for small α, plastic.py). The full BSDF's estimate agrees with the sum."""
+    from spectral_gi.core.bsdfs.fresnel import fresnel_dielectric
+    p = B.plastic_params(ax, ay)
+    e = np.full(NW, eta)
+    for th in PLASTIC_ANGLES:
+        t = math.radians(th)
+        one_minus_f = 1.0 - fresnel_dielectric(math.cos(t), eta)
+        base = albedo_quadrature(C.MAT_PLASTIC, p, RA, 0.0, e, 0.0, t, n_theta=64, n_phi=4)
+        np.testing.assert_allclose(base.reflectance, RA * one_minus_f, rtol=1e-9, atol=1e-14)
+        coat = albedo(C.MAT_PLASTIC, p, 0.0, WHITE, e, 0.0, t, n_samples=50000, seed=5)
+        total = coat.reflectance + one_minus_f
+        assert np.all(total <= 1.0 + 1e-3 + 3 * coat.reflectance_se), (eta, ax, th, total)
+        full = albedo(C.MAT_PLASTIC, p, WHITE, WHITE, e, 0.0, t, n_samples=50000, seed=6)
+        np.testing.assert_allclose(full.reflectance, total, atol=5 * full.reflectance_se.max() + 1e-4)
+
+
+def test_white_plastic_albedo_is_close_to_one():
+    """A lossless coat (η 1.5, α 0.1) over a white base loses only the coat's masking:
+    measured 0.99962 at normal incidence, 0.9967 at 60°."""
+    p = B.plastic_params(0.1)
+    for th, lo in ((0.0, 0.9995), (30.0, 0.9995), (60.0, 0.996)):
+        t = math.radians(th)
+        coat = albedo(C.MAT_PLASTIC, p, 0.0, WHITE, ETA, 0.0, t, n_samples=100000, seed=7)
+        base = albedo_quadrature(C.MAT_PLASTIC, p, WHITE, 0.0, ETA, 0.0, t, n_theta=64, n_phi=4)
+        total = coat.reflectance + base.reflectance
+        assert np.all(total > lo) and np.all(total <= 1.0 + 1e-3), (th, total)
+
+
+def test_plastic_coat_is_the_rough_dielectric_reflection():
+    """With a black base the plastic is the reflection lobe of the GGX dielectric (same f
+    for wi on wo's side, same albedo), and a nearly smooth coat (α clamped to 1e-4)
+    reflects the Fresnel factor: 0.04 at normal incidence for η = 1.5."""
+    from spectral_gi.core.bsdfs.fresnel import fresnel_dielectric
+    rng = np.random.default_rng(22)
+    wo, wi = random_dirs(rng, 2000), random_dirs(rng, 2000)
+    eta = np.array([1.33, 1.5, 1.7, 2.4])
+    for ax, ay in ((0.5, 0.5), (0.05, 0.3)):
+        fp, _ = B.evaluate(C.MAT_PLASTIC, B.plastic_params(ax, ay), 0.0, RB, eta, 0.0, wo, wi)
+        fd, _ = B.evaluate(C.MAT_GGX_DIELECTRIC, B.ggx_dielectric_params(ax, ay), RA, RB, eta, 0.0, wo, wi)
+        assert np.count_nonzero(fp) > 1000
+        np.testing.assert_allclose(fp, fd, rtol=1e-12, atol=1e-300)
+    for th in (0.0, 60.0):
+        t = math.radians(th)
+        a = albedo(C.MAT_PLASTIC, B.plastic_params(0.5), 0.0, 1.0, ETA, 0.0, t, n_samples=100000, seed=3)
+        q = albedo_quadrature(C.MAT_GGX_DIELECTRIC, B.ggx_dielectric_params(0.5), 0.0, 1.0, ETA, 0.0, t, 256, 256)
+        np.testing.assert_allclose(a.reflectance, q.reflectance, atol=5 * a.reflectance_se.max() + 1e-4)
+        smooth = albedo(C.MAT_PLASTIC, B.plastic_params(0.0), 0.0, 1.0, ETA, 0.0, t, n_samples=2000)
+        np.testing.assert_allclose(smooth.reflectance, fresnel_dielectric(math.cos(t), 1.5), atol=1e-5)
+    assert fresnel_dielectric(1.0, 1.5) == pytest.approx(0.04, rel=1e-12)
+
+
+def test_plastic_sampling_choice_and_flags():
+    """The coat is drawn with probability Σ rb F(cos θo) / Σ (rb F + ra (1 − F)); coat
+    samples are GLOSSY, base samples DIFFUSE; an index-matched coat is a Lambertian base."""
+    from spectral_gi.core.bsdfs.fresnel import fresnel_dielectric
+    wo = wo_at(50.0)
+    wi, w, pd, fl = run_sample((C.MAT_PLASTIC, B.plastic_params(0.2), RA, RB, ETA, 0.0), wo, 40000, 9)
+    f = fresnel_dielectric(wo[2], 1.5)
+    pc = np.sum(RB * f) / np.sum(RB * f + RA * (1 - f))
+    glossy = (fl & B.BSDF_GLOSSY) != 0
+    diffuse = (fl & B.BSDF_DIFFUSE) != 0
+    assert not np.any(glossy & diffuse)
+    assert np.count_nonzero(fl == 0) < 400  # only coat reflections below the horizon fail
+    assert glossy.mean() == pytest.approx(pc, abs=5 * math.sqrt(pc * (1 - pc) / len(fl)) + 0.01)
+    assert dispatch.bsdf_flags(C.MAT_PLASTIC, B.plastic_params(0.2)) == (
+        B.BSDF_REFLECTION | B.BSDF_DIFFUSE | B.BSDF_GLOSSY)
+    rng = np.random.default_rng(23)
+    a, b = random_dirs(rng, 500), random_dirs(rng, 500)
+    f1, p1 = B.evaluate(C.MAT_PLASTIC, B.plastic_params(0.2), RA, RB, WHITE, 0.0, a, b)
+    np.testing.assert_allclose(f1, np.tile(RA / np.pi, (500, 1)), rtol=1e-14)
+    np.testing.assert_allclose(p1, b[:, 2] / np.pi, rtol=1e-14)
+
+
+def test_plastic_builder():
+    p = B.plastic_params(0.2, 0.05, two_sided=False)
+    assert list(p[:3]) == [0.0, 0.2, 0.05] and not np.any(p[3:])
+    np.testing.assert_array_equal(B.make_params(C.MAT_PLASTIC, 0.3), B.plastic_params(0.3, 0.3))
+    assert B.plastic_params(0.0)[params.P_ALPHA_X] == params.ALPHA_MIN
+    with pytest.raises(ValueError, match="alpha_y"):
+        B.plastic_params(0.1, 1.5)
+    with pytest.raises(ValueError, match="two_sided"):
+        B.plastic_params(0.1, two_sided=2)
+
+
+@pytest.mark.statistical
+def test_plastic_renders_in_the_path_kernel():
+    """The path kernel reaches the model through the dispatch: in the emitting furnace an
+    index-matched plastic (η = 1) is a Lambertian ρ, so L = L_e / (1 − ρ); with η = 1.5 the
+    albedo A(θ) lies between its extremes, so L_e/(1 − A_min) ≤ L ≤ L_e/(1 − A_max)."""
+    from helpers import furnace_scene
+    from spectral_gi.core import renderer as R
+    from spectral_gi.core.film import develop
+    rho, le = 0.5, 100.0
+    for ior in (1.0, 1.5):
+        sc = furnace_scene(rho, le, spp=128)
+        sc.materials[0].model = C.MAT_PLASTIC
+        sc.materials[0].params = list(B.plastic_params(0.3))
+        sc.materials[0].ior = ior
+        film, _ = R.render(sc)
+        lum = develop(film.sums).luminance
+        assert np.all(np.isfinite(lum))
+        if ior == 1.0:
+            assert lum.mean() == pytest.approx(le / (1 - rho), rel=0.02)
+        else:
+            alb = [albedo(C.MAT_PLASTIC, B.plastic_params(0.3), rho, 1.0, 1.5, 0.0, math.radians(th),
+                          n_samples=20000, seed=1).reflectance[0] for th in np.linspace(0, 89.9, 30)]
+            lo, hi = le / (1 - min(alb)), le / (1 - max(alb))
+            assert 0.98 * lo < lum.mean() < 1.02 * hi, (lo, lum.mean(), hi)
 
 
 # -- delta models -------------------------------------------------------------------------
@@ -385,6 +560,12 @@ def test_degenerate_inputs_give_zero_or_finite_values():
     rows["blinn_n0"] = (C.MAT_BLINN_PHONG, B.blinn_phong_params(0), RA, RB, ETA, 0.0)
     rows["black"] = (C.MAT_PHONG, B.phong_params(5), 0.0, 0.0, ETA, 0.0)
     rows["unknown_tag"] = (99, B.lambert_params(), RA, RB, ETA, 0.0)
+    rows["plastic_alpha0"] = (C.MAT_PLASTIC, raw, RA, RB, ETA, 0.0)
+    rows["plastic_eta1"] = (C.MAT_PLASTIC, B.plastic_params(0.2), RA, RB, WHITE, 0.0)
+    rows["plastic_black"] = (C.MAT_PLASTIC, B.plastic_params(0.2), 0.0, 0.0, ETA, 0.0)
+    rows["plastic_white_nan_rb"] = (C.MAT_PLASTIC, B.plastic_params(0.2), WHITE, np.nan, ETA, 0.0)
+    rows["plastic_eta_extreme"] = (C.MAT_PLASTIC, B.plastic_params(0.2), RA, RB,
+                                   np.array([1e-12, 0.5, 1e9, np.nan]), 0.0)
     tangent = np.array([[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.6, 0.8, 0.0]])
     normal = np.array([[0.0, 0.0, 1.0], [0.0, 0.0, -1.0]])
     wos = np.concatenate([tangent, normal, random_dirs(np.random.default_rng(0), 30, upper=False)])

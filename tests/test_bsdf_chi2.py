@@ -1,5 +1,5 @@
 """Chi-square goodness of fit of every non-delta BSDF sampler against its own pdf
-(compendium items 20, 21, 23, 47-50 and the GGX models), at θo = 0°, 45°, 80°, 89°.
+(compendium items 20, 21, 23, 47-50, the GGX models and the plastic), at θo = 0°, 45°, 80°, 89°.
 
 The shared harness (tests/chi2.py) integrates the supplied pdf over (cos θ, φ) cells
 about the normal, with rows of cos θ at quantiles of the samples so that narrow lobes
@@ -46,6 +46,11 @@ CASES = {
     "ggx_diel_0.5": (C.MAT_GGX_DIELECTRIC, B.ggx_dielectric_params(0.5), RA, RB, ETA, 0.0),
     "ggx_diel_0.05": (C.MAT_GGX_DIELECTRIC, B.ggx_dielectric_params(0.05), RA, RB, ETA, 0.0),
     "ggx_diel_aniso": (C.MAT_GGX_DIELECTRIC, B.ggx_dielectric_params(0.1, 0.4), RA, RB, ETA, 0.0),
+    "plastic_0.3": (C.MAT_PLASTIC, B.plastic_params(0.3), RA, RB, ETA, 0.0),
+    "plastic_0.05_eta2.4": (C.MAT_PLASTIC, B.plastic_params(0.05), RA, RB, np.full(NW, 2.4), 0.0),
+    "plastic_aniso_eta1.33": (C.MAT_PLASTIC, B.plastic_params(0.03, 0.3), RA, RB, np.full(NW, 1.33), 0.0),
+    "plastic_0.1_white_dispersive": (C.MAT_PLASTIC, B.plastic_params(0.1), np.ones(NW), np.ones(NW),
+                                     np.array([1.53, 1.52, 1.51, 1.50]), 0.0),
 }
 
 

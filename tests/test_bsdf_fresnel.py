@@ -141,3 +141,94 @@ def test_degenerate_fresnel_inputs_are_finite():
     assert all(math.isfinite(v) and 0.0 <= v <= 1.0 for v in vals)
     assert F.fresnel_dielectric(0.0, 1.0) == 0.0  # no interface
     assert F.fresnel_dielectric(0.0, 1.5) == 1.0  # grazing limit
+
+
+def _diffuse_reflectance_oracle(eta):
+    """2 ∫₀¹ R(μ) μ dμ of the complex-amplitude oracle, split at the critical cosine."""
+    from scipy.integrate import quad
+
+    def f(mu):
+        rs, rp = oracle_sp(mu, eta)
+        return float(rs + rp) * mu  # 2 · (R_s + R_p)/2 · μ
+
+    pts = [math.sqrt(1.0 - eta * eta)] if eta < 1.0 else None
+    return quad(f, 0.0, 1.0, points=pts, epsabs=1e-14, epsrel=1e-13, limit=400)[0]
+
+
+@pytest.mark.parametrize("eta", [1.0002, 1.0009, 1.001, 1.003, 1.05, 1.33, 1.5, 2.4, 4.0, 50.0])
+def test_fresnel_diffuse_reflectance(eta):
+    """F̄(η) = 2 ∫ F(μ) μ dμ (the plastic's normalisation) from the outside and the inside,
+    against quadrature of the oracle; known values 0.0918 (η 1.5) and 0.5963 from inside glass."""
+    tol = 1e-9 if eta >= 1.001 else 2e-6
+    for e in (eta, 1.0 / eta):
+        assert F.fresnel_diffuse_reflectance(e) == pytest.approx(_diffuse_reflectance_oracle(e), abs=tol)
+    # the identity used for η < 1: 1 − F̄(1/n) = (1 − F̄(n)) / n²
+    assert 1.0 - F.fresnel_diffuse_reflectance(1.0 / eta) == pytest.approx(
+        (1.0 - F.fresnel_diffuse_reflectance(eta)) / eta ** 2, rel=1e-12)
+    if eta == 1.5:
+        assert F.fresnel_diffuse_reflectance(1.5) == pytest.approx(0.091778, abs=1e-6)
+        assert F.fresnel_diffuse_reflectance(1.0 / 1.5) == pytest.approx(0.596346, abs=1e-6)
+
+
+def test_fresnel_diffuse_reflectance_limits():
+    assert F.fresnel_diffuse_reflectance(1.0) == 0.0
+    for bad in (0.0, -1.0, math.nan, math.inf):
+        assert F.fresnel_diffuse_reflectance(bad) == 0.0
+    big = F.fresnel_diffuse_reflectance(1e12)
+    assert 1.0 - 1e-5 < big < 1.0
+    assert F.fresnel_diffuse_reflectance(1e-12) == pytest.approx(1.0, abs=1e-15)
+    # continuous across the interpolated stretch near 1
+    a, b = F.fresnel_diffuse_reflectance(1.001 - 1e-12), F.fresnel_diffuse_reflectance(1.001 + 1e-12)
+    assert a == pytest.approx(b, abs=1e-10)
+
+
+# -- Gulbrandsen 2014: artist-friendly conductor parameters ------------------------------------
+
+def test_conductor_from_colour_round_trip():
+    """R(0°) of the resulting (η, κ) is the reflectivity r, grazing incidence reflects
+    everything, and colour_from_conductor gives (r, g) back."""
+    from spectral_gi.core.bsdfs.artist import colour_from_conductor, conductor_from_colour
+    rng = np.random.default_rng(4)
+    r = np.concatenate([rng.random(400), [1e-6, 0.02, 0.5, 0.95, 0.999, 0.9999]])
+    g = np.concatenate([rng.random(400), [0.0, 1.0, 0.5, 0.999, 0.0, 1.0]])
+    eta, kappa = conductor_from_colour(r, g)
+    assert eta.shape == r.shape and np.all(eta > 0) and np.all(kappa >= 0)
+    for ri, e, k in zip(r, eta, kappa):
+        assert F.fresnel_conductor(1.0, e, k) == pytest.approx(ri, abs=1e-6)
+        assert F.normal_incidence_reflectance(e, k) == pytest.approx(ri, rel=1e-9)
+        assert F.fresnel_conductor(0.0, e, k) == 1.0
+        # ... approached continuously (1 − F ∝ cos θ near grazing, slope ~|N|)
+        assert 1.0 - F.fresnel_conductor(1e-9, e, k) < 1e-5
+        assert F.fresnel_conductor(1e-9, e, k) >= F.fresnel_conductor(1e-5, e, k) - 1e-12
+        # against the complex-amplitude oracle at an oblique angle
+        rs, rp = oracle_sp(0.3, complex(e, k))
+        assert F.fresnel_conductor(0.3, e, k) == pytest.approx(0.5 * (rs + rp), rel=1e-9)
+    r2, g2 = colour_from_conductor(eta, kappa)
+    np.testing.assert_allclose(r2, r, rtol=1e-9, atol=1e-15)
+    ok = r > 1e-3  # g is ill-conditioned where η_max − η_min → 0
+    np.testing.assert_allclose(g2[ok], g[ok], atol=1e-7)
+
+
+def test_conductor_from_colour_edge_tint_and_validation():
+    """g = 0 is the κ = 0 end (η_max), g = 1 the η_min end; a larger edge tint reflects
+    more near grazing at equal r; clipping and clear errors."""
+    from spectral_gi.core.bsdfs.artist import conductor_from_colour
+    r = 0.6
+    e0, k0 = conductor_from_colour(r, 0.0)
+    e1, k1 = conductor_from_colour(r, 1.0)
+    sr = math.sqrt(r)
+    assert float(e0) == pytest.approx((1 + sr) / (1 - sr), rel=1e-12) and float(k0) == pytest.approx(0.0, abs=1e-6)
+    assert float(e1) == pytest.approx((1 - r) / (1 + r), rel=1e-12)
+    assert float(k1) == pytest.approx(2 * sr / (1 + r), rel=1e-12)  # κ² = 4r/(1+r)² there
+    c80 = math.cos(math.radians(80.0))
+    assert F.fresnel_conductor(c80, float(e1), float(k1)) > F.fresnel_conductor(c80, float(e0), float(k0))
+    # per-wavelength arrays broadcast; r is clipped to [0, 0.9999] and g to [0, 1]
+    eta, kappa = conductor_from_colour([0.9, 1.5, -0.2], 0.5)
+    assert eta.shape == (3,) and np.all(np.isfinite(eta)) and np.all(np.isfinite(kappa))
+    assert F.normal_incidence_reflectance(eta[1], kappa[1]) == pytest.approx(0.9999, rel=1e-9)
+    assert (eta[2], kappa[2]) == (1.0, 0.0)
+    np.testing.assert_array_equal(conductor_from_colour(0.5, 2.0)[0], conductor_from_colour(0.5, 1.0)[0])
+    with pytest.raises(ValueError, match="r .*NaN"):
+        conductor_from_colour([0.5, math.nan], 0.5)
+    with pytest.raises(ValueError, match="edge tint.*NaN"):
+        conductor_from_colour(0.5, [math.nan])

@@ -34,10 +34,11 @@ of wo gives 0. The dielectrics are naturally two-sided (inside is z < 0).
 from .. import constants as C
 from ..jit import function, inline
 from .common import zero
-from .ggx import ggx_conductor_eval, ggx_conductor_sample_dir, ggx_dielectric_eval, ggx_dielectric_sample_dir
+from .ggx import ggx_conductor_eval, ggx_reflect_sample_dir, ggx_dielectric_eval, ggx_dielectric_sample_dir
 from .lafortune import lobes_eval, lobes_sample_dir
 from .params import (BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE, BSDF_GLOSSY, BSDF_REFLECTION, BSDF_TRANSMISSION,
                      P_TWO_SIDED)
+from .plastic import plastic_eval, plastic_sample_dir
 from .phong import blinn_eval, blinn_sample_dir, lambert_eval, lambert_sample_dir
 from .specular import conductor_sample, dielectric_sample, mirror_sample
 from .ward import ward_eval, ward_sample_dir
@@ -59,6 +60,8 @@ def evaluate_models(model, p, ra, rb, eta, kappa, wox, woy, woz, wix, wiy, wiz, 
         return ggx_conductor_eval(p, ra, eta, kappa, wox, woy, woz, wix, wiy, wiz, out_f, want_f)
     elif model == C.MAT_GGX_DIELECTRIC:
         return ggx_dielectric_eval(p, ra, rb, eta, wox, woy, woz, wix, wiy, wiz, out_f, want_f)
+    elif model == C.MAT_PLASTIC:
+        return plastic_eval(p, ra, rb, eta, wox, woy, woz, wix, wiy, wiz, out_f, want_f)
     if want_f:
         zero(out_f)
     return 0.0  # delta models (mirror, smooth conductor and dielectric) and unknown tags
@@ -79,9 +82,11 @@ def sample_direction(model, p, ra, rb, eta, kappa, wox, woy, woz, u1, u2, u3, ou
     elif model == C.MAT_WARD:
         return ward_sample_dir(p, ra, rb, wox, woy, woz, u1, u2, u3)
     elif model == C.MAT_GGX_CONDUCTOR:
-        return ggx_conductor_sample_dir(p, wox, woy, woz, u1, u2)
+        return ggx_reflect_sample_dir(p, wox, woy, woz, u1, u2)
     elif model == C.MAT_GGX_DIELECTRIC:
         return ggx_dielectric_sample_dir(p, ra, eta, wox, woy, woz, u1, u2, u3, out_w)
+    elif model == C.MAT_PLASTIC:
+        return plastic_sample_dir(p, ra, rb, eta, wox, woy, woz, u1, u2, u3)
     elif model == C.MAT_MIRROR:
         return mirror_sample(ra, wox, woy, woz, out_w)
     elif model == C.MAT_CONDUCTOR:
@@ -180,7 +185,8 @@ def bsdf_flags(model, p):
     pass-through of an index-matched (eta = 1) rough dielectric."""
     if model == C.MAT_LAMBERT:
         return BSDF_REFLECTION | BSDF_DIFFUSE
-    elif model == C.MAT_PHONG or model == C.MAT_BLINN_PHONG or model == C.MAT_WARD or model == C.MAT_LAFORTUNE:
+    elif (model == C.MAT_PHONG or model == C.MAT_BLINN_PHONG or model == C.MAT_WARD or model == C.MAT_LAFORTUNE
+          or model == C.MAT_PLASTIC):
         return BSDF_REFLECTION | BSDF_DIFFUSE | BSDF_GLOSSY
     elif model == C.MAT_MIRROR or model == C.MAT_CONDUCTOR:
         return BSDF_REFLECTION | BSDF_DELTA

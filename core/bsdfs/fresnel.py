@@ -164,3 +164,43 @@ def normal_incidence_reflectance(eta, kappa):
     if not (den > 0.0):
         return 0.0
     return num / den
+
+
+@inline
+def _hemispherical_fresnel_ext(n):
+    """2 ∫₀¹ F(μ, n) μ dμ for n ≥ 1.001: the closed form of the integral for unpolarised
+    light (Stern 1964; checked against quadrature of ``fresnel_dielectric`` in the tests).
+    Its terms cancel towards n = 1; the caller interpolates below 1.001."""
+    n2 = n * n
+    n4 = n2 * n2
+    m4 = n4 - 1.0
+    return (0.5 + (n - 1.0) * (3.0 * n + 1.0) / (6.0 * (n + 1.0) * (n + 1.0))
+            + n2 * (n2 - 1.0) * (n2 - 1.0) / ((n2 + 1.0) ** 3) * math.log((n - 1.0) / (n + 1.0))
+            - 2.0 * n * n2 * (n2 + 2.0 * n - 1.0) / ((n2 + 1.0) * m4)
+            + 8.0 * n4 * (n4 + 1.0) / ((n2 + 1.0) * m4 * m4) * math.log(n))
+
+
+FRESNEL_AVG_ETA_MAX = 1.0e6  # beyond, the average is taken at this index (F̄ > 1 − 1e-5)
+
+
+@inline
+def fresnel_diffuse_reflectance(eta):
+    """F̄(η) = 2 ∫₀¹ F(μ, η) μ dμ: the unpolarised dielectric reflectance averaged over a
+    cosine-weighted (diffuse) hemisphere of incident directions, from the side where the
+    relative index is eta (conventions of ``fresnel_dielectric``; 0 where it returns 0).
+
+    η < 1 (incidence from the denser side, total internal reflection included) follows
+    from η > 1 by the exact identity 1 − F̄(1/n) = (1 − F̄(n)) / n² (the transmitted
+    power of a diffuse field is the same both ways, with radiance scaled by n²).
+    Between 1 and 1.001 F̄ is interpolated linearly to 0 at η = 1 (error < 1e-6).
+    """
+    if not (eta > 0.0) or eta == math.inf or eta == 1.0:
+        return 0.0
+    n = eta if eta > 1.0 else 1.0 / eta
+    n = min(n, FRESNEL_AVG_ETA_MAX)
+    f = _hemispherical_fresnel_ext(max(n, 1.001))
+    if n < 1.001:
+        f *= (n - 1.0) / 0.001
+    if eta > 1.0:
+        return f
+    return 1.0 - (1.0 - f) / (n * n)

@@ -78,8 +78,35 @@ def ggx_conductor_eval(p, ra, eta, kappa, wox, woy, woz, wix, wiy, wiz, out_f, w
     return ggx_g1(wox, woy, woz, ax, ay) * d / (4.0 * woz)
 
 
+@inline
+def ggx_reflection(p, wox, woy, woz, wix, wiy, wiz, want_f):
+    """GGX reflection without its Fresnel factor, for wo and wi on the upper side:
+    (wo·h, D G2 / (4 cos θo cos θi) (0 unless want_f), pdf of ``ggx_reflect_sample_dir``);
+    (0, 0, 0) where no facet reflects wo into wi."""
+    ax, ay = _alphas(p)
+    hx = wox + wix
+    hy = woy + wiy
+    hz = woz + wiz
+    hl = math.sqrt(hx * hx + hy * hy + hz * hz)
+    if not (hl > 0.0):
+        return 0.0, 0.0, 0.0
+    hx /= hl
+    hy /= hl
+    hz /= hl
+    doh = wox * hx + woy * hy + woz * hz
+    d = ggx_d(hx, hy, hz, ax, ay)
+    if not (doh > 0.0) or not (d > 0.0):
+        return 0.0, 0.0, 0.0
+    base = 0.0
+    if want_f:
+        base = d * ggx_g2(wox, woy, woz, wix, wiy, wiz, ax, ay) / (4.0 * woz * wiz)
+    return doh, base, ggx_g1(wox, woy, woz, ax, ay) * d / (4.0 * woz)
+
+
 @function
-def ggx_conductor_sample_dir(p, wox, woy, woz, u1, u2):
+def ggx_reflect_sample_dir(p, wox, woy, woz, u1, u2):
+    """wi = mirror of wo (upper side) about a visible GGX normal (the conductor's and
+    the plastic coat's sampler)."""
     ax, ay = _alphas(p)
     hx, hy, hz = sample_ggx_vndf(wox, woy, woz, ax, ay, u1, u2)
     if not (wox * hx + woy * hy + woz * hz > 0.0):

@@ -18,12 +18,14 @@ DIELECTRIC         transmission tint           reflection tint        eta (n_in/
 CONDUCTOR          tint × Fresnel              –                      eta, kappa
 GGX_CONDUCTOR      tint × Fresnel              –                      eta, kappa
 GGX_DIELECTRIC     transmission tint           reflection tint        eta (n_in/n_out)
+PLASTIC            base (diffuse) reflectance  coat tint              eta (coat index)
 =================  ==========================  =====================  ============
 
 Energy bounds are enforced per wavelength in the kernels: Phong, Blinn–Phong and Ward
 scale (ρd, ρs) down by their sum when ρd + ρs > 1; Lafortune scales (ρd, tint) down
 when ρd + tint·A_max > 1, with A_max the lobes' maximal directional albedo stored in
-the row by ``lafortune_params``. Tints of 1 make the dielectrics lossless.
+the row by ``lafortune_params``. Tints of 1 make the dielectrics lossless. Plastic couples
+its base to the coat's Fresnel factors so that ρ_base + coat ≤ 1 (plastic.py).
 
 Row layouts (index: meaning)
 ----------------------------
@@ -44,6 +46,7 @@ wo is below; 0.0 = black from below).
 * CONDUCTOR:      0 two_sided
 * GGX_CONDUCTOR:  0 two_sided, 1 alpha_x, 2 alpha_y
 * GGX_DIELECTRIC: 0 unused, 1 alpha_x, 2 alpha_y
+* PLASTIC:        0 two_sided, 1 alpha_x, 2 alpha_y (the coat's GGX roughness)
 
 Sample flags (bits of the int returned by ``bsdf_sample`` and ``bsdf_flags``): see
 ``BSDF_*`` below. A failed sample returns flags 0 and pdf 0.
@@ -86,13 +89,14 @@ ALPHA_MAX = 1.0
 EXPONENT_MAX = 1.0e4  # Phong / Lafortune exponents (moments cost O(n))
 
 REFLECTIVE_MODELS = (C.MAT_LAMBERT, C.MAT_PHONG, C.MAT_BLINN_PHONG, C.MAT_WARD, C.MAT_LAFORTUNE,
-                     C.MAT_MIRROR, C.MAT_CONDUCTOR, C.MAT_GGX_CONDUCTOR)
+                     C.MAT_MIRROR, C.MAT_CONDUCTOR, C.MAT_GGX_CONDUCTOR, C.MAT_PLASTIC)
 TRANSMISSIVE_MODELS = (C.MAT_DIELECTRIC, C.MAT_GGX_DIELECTRIC)
 DELTA_MODELS = (C.MAT_MIRROR, C.MAT_DIELECTRIC, C.MAT_CONDUCTOR)
 MODEL_NAMES = {
     C.MAT_LAMBERT: "lambert", C.MAT_PHONG: "phong", C.MAT_BLINN_PHONG: "blinn_phong", C.MAT_WARD: "ward",
     C.MAT_LAFORTUNE: "lafortune", C.MAT_MIRROR: "mirror", C.MAT_DIELECTRIC: "dielectric",
     C.MAT_CONDUCTOR: "conductor", C.MAT_GGX_CONDUCTOR: "ggx_conductor", C.MAT_GGX_DIELECTRIC: "ggx_dielectric",
+    C.MAT_PLASTIC: "plastic",
 }
 
 
@@ -289,11 +293,22 @@ def ggx_dielectric_params(alpha_x, alpha_y=None):
     return p
 
 
+def plastic_params(alpha_x, alpha_y=None, two_sided=True):
+    """Plastic: a rough dielectric coat (GGX, index eta, tint rb) over a Lambertian base (ra),
+    Kelemen-style coupled (plastic.py); alpha_y = None: isotropic."""
+    p = _row()
+    p[P_TWO_SIDED] = _flag("two_sided", two_sided)
+    p[P_ALPHA_X] = _alpha("alpha_x", alpha_x)
+    p[P_ALPHA_Y] = p[P_ALPHA_X] if alpha_y is None else _alpha("alpha_y", alpha_y)
+    return p
+
+
 BUILDERS = {
     C.MAT_LAMBERT: lambert_params, C.MAT_PHONG: phong_params, C.MAT_BLINN_PHONG: blinn_phong_params,
     C.MAT_WARD: ward_params, C.MAT_LAFORTUNE: lafortune_params, C.MAT_MIRROR: mirror_params,
     C.MAT_DIELECTRIC: dielectric_params, C.MAT_CONDUCTOR: conductor_params,
     C.MAT_GGX_CONDUCTOR: ggx_conductor_params, C.MAT_GGX_DIELECTRIC: ggx_dielectric_params,
+    C.MAT_PLASTIC: plastic_params,
 }
 
 

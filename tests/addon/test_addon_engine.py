@@ -60,6 +60,9 @@ def test_engine_is_registered_with_its_panels(ext, bpy):
         panel = getattr(bpy.types, name)
         assert panel.COMPAT_ENGINES == {"SPECTRAL_GI"}
     assert "SPECTRAL_GI" in bpy.types.RENDER_PT_format.COMPAT_ENGINES  # Blender's output panels follow
+    assert "SPECTRAL_GI" in bpy.types.DATA_PT_camera_dof.COMPAT_ENGINES  # settings the exporter reads
+    assert "SPECTRAL_GI" in bpy.types.EEVEE_WORLD_PT_surface.COMPAT_ENGINES
+    assert "SPECTRAL_GI" not in bpy.types.DATA_PT_light.COMPAT_ENGINES  # our light panel replaces it
     assert bpy.types.SPECTRALGI_PT_sampling.poll(bpy.context)
     scene.render.engine = "CYCLES"
     assert not bpy.types.SPECTRALGI_PT_sampling.poll(bpy.context)

@@ -10,6 +10,8 @@ import bpy
 # Lights are drawn by our own light panel (with their photometric units), not Blender's legacy one.
 EXCLUDE_PANELS = frozenset({"DATA_PT_light", "DATA_PT_spot", "NODE_DATA_PT_light", "DATA_PT_preview"})
 EXCLUDE_PREFIXES = ("VIEWLAYER_PT_freestyle", "RENDER_PT_freestyle", "MATERIAL_PT_freestyle")
+# Panels of other engines that show settings the exporter reads: depth of field, the world's node tree.
+EXTRA_PANELS = ("DATA_PT_camera_dof", "DATA_PT_camera_dof_aperture", "EEVEE_WORLD_PT_surface")
 
 
 class SpectralGIRenderEngine(bpy.types.RenderEngine):
@@ -48,6 +50,10 @@ def compat_panels():
         engines = getattr(panel, "COMPAT_ENGINES", None)
         if engines is not None and "BLENDER_RENDER" in engines and panel.__name__ not in EXCLUDE_PANELS \
                 and not panel.__name__.startswith(EXCLUDE_PREFIXES):
+            panels.append(panel)
+    for name in EXTRA_PANELS:
+        panel = getattr(bpy.types, name, None)
+        if panel is not None and getattr(panel, "COMPAT_ENGINES", None) is not None and panel not in panels:
             panels.append(panel)
     return panels
 

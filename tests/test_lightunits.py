@@ -80,3 +80,15 @@ def test_spectrum_sources():
     assert XYZ[1] / XYZ.sum() == pytest.approx(0.4041, abs=2e-3)
     XYZ = emission_XYZ(LU.light_emission_coeffs("illuminant", name="D65"))
     assert XYZ[0] / XYZ.sum() == pytest.approx(0.3127, abs=2e-3)
+
+
+def test_scene_white_is_the_brightest_emitter():
+    from spectral_gi.core.scenes import cornell_box
+
+    scene = cornell_box(8, 8)
+    x, y = LU.scene_white_xy(scene)
+    # the Cornell light is warm (its published spectrum), well away from D65
+    assert 0.40 < x < 0.48 and 0.38 < y < 0.45
+    for m in scene.materials:
+        m.emission = -1
+    assert LU.scene_white_xy(scene) is None

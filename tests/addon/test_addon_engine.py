@@ -60,6 +60,9 @@ def test_engine_is_registered_with_its_panels(ext, bpy):
         panel = getattr(bpy.types, name)
         assert panel.COMPAT_ENGINES == {"SPECTRAL_GI"}
     assert "SPECTRAL_GI" in bpy.types.RENDER_PT_format.COMPAT_ENGINES  # Blender's output panels follow
+    assert "SPECTRAL_GI" in bpy.types.DATA_PT_camera_dof.COMPAT_ENGINES  # settings the exporter reads
+    assert "SPECTRAL_GI" in bpy.types.EEVEE_WORLD_PT_surface.COMPAT_ENGINES
+    assert "SPECTRAL_GI" not in bpy.types.DATA_PT_light.COMPAT_ENGINES  # our light panel replaces it
     assert bpy.types.SPECTRALGI_PT_sampling.poll(bpy.context)
     scene.render.engine = "CYCLES"
     assert not bpy.types.SPECTRALGI_PT_sampling.poll(bpy.context)
@@ -202,3 +205,58 @@ def test_transparent_film(ext, bpy, tmp_path):
     assert hit.any() and (~hit).any()
     np.testing.assert_array_equal(ch["Combined.A"], hit.astype(np.float64))  # sky rows: alpha 0
     assert np.all(ch["Combined.R"][~hit] == 0.0)  # premultiplied: no colour where nothing was hit
+
+
+def test_panels_draw_for_every_light_type(ext, bpy):
+    """The engine's panels draw without errors and name only properties that exist."""
+    from unittest import mock
+
+    b = ext.build
+    engine_scene(b)
+    ctx = bpy.context
+    drawn = []
+
+    def layout():
+        lay = mock.MagicMock()
+        for name in ("row", "column", "box", "split"):
+            getattr(lay, name).return_value = lay
+
+        def prop(owner, name, **kw):
+            assert hasattr(owner, name), (owner, name)
+            drawn.append(name)
+        lay.prop.side_effect = prop
+        return lay
+
+    for name in ("SPECTRALGI_PT_sampling", "SPECTRALGI_PT_film", "SPECTRALGI_PT_passes"):
+        panel = getattr(bpy.types, name)
+        assert panel.poll(ctx)
+        panel.draw(mock.MagicMock(layout=layout()), ctx)
+    assert {"samples", "sampler", "pixel_filter", "use_pass_albedo", "use_pass_depth"} <= set(drawn)
+    light_panel = bpy.types.SPECTRALGI_PT_light
+    for kind in ("POINT", "SPOT", "SUN", "AREA"):
+        data = bpy.data.lights.new(kind, kind)
+        for unit, spectrum in (("BLENDER", "RGB"), ("LUMEN", "BLACKBODY"), ("LUX", "ILLUMINANT"), ("NIT", "LED")):
+            data.spectral_gi.unit, data.spectral_gi.spectrum = unit, spectrum
+            drawn.clear()
+            light_panel.draw(mock.MagicMock(layout=layout()), mock.MagicMock(light=data))
+            assert "unit" in drawn and "spectrum" in drawn
+
+
+def test_white_balance_to_the_light(ext, bpy, tmp_path):
+    """A grey floor under a 2700 K blackbody: orange without white balance, neutral with it."""
+    b = ext.build
+    key = engine_scene(b, spp=16)
+    s = key.data.spectral_gi
+    s.spectrum, s.temperature = "BLACKBODY", 2700.0
+    means = {}
+    for wb in ("NONE", "LIGHT"):
+        b.scene.spectral_gi.white_balance = wb
+        render_still(bpy, tmp_path / f"wb_{wb}.exr")
+        ch = read_multilayer(tmp_path / f"wb_{wb}.exr")
+        floor = ch["Luminance.Y"] > 0.0
+        floor[:, :] &= np.abs(np.arange(16) - 7.5)[None, :] > 5  # the grey floor beside the red cube
+        means[wb] = [ch[f"Combined.{c}"][floor].mean() for c in "RGB"]
+    r, g, bl = means["NONE"]
+    assert r > 1.5 * bl  # 2700 K is orange
+    r, g, bl = means["LIGHT"]
+    assert r / g == pytest.approx(1.0, abs=0.03) and bl / g == pytest.approx(1.0, abs=0.03)

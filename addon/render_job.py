@@ -296,7 +296,9 @@ def render_with_engine(engine, depsgraph):
     cam = core_scene.camera
     width, height = int(engine.resolution_x), int(engine.resolution_y)
     if (width, height) != (cam.width, cam.height):
-        # border renders: Blender asks for its render size; render the whole frame at that size
+        # a border render asks for part of the frame: render the whole frame at the size asked for
+        engine.report({"WARNING"}, "Spectral GI: render region (border) not supported; the whole frame is "
+                                   f"rendered at {width} × {height} px")
         cam.width, cam.height = width, height
     total = int(core_scene.settings.spp)
     white_balance = None
@@ -354,5 +356,8 @@ def render_with_engine(engine, depsgraph):
         else:
             text = (f"{stats.spp} samples in {stats.seconds:.1f} s "
                     f"({stats.samples_per_second / 1e6:.2f} M samples/s)")
+            reason = getattr(stats, "stop_reason", "spp")
+            if reason in ("time_limit", "noise_target"):
+                text += " — stopped at the " + ("time limit" if reason == "time_limit" else "noise target")
         engine.update_stats("Spectral GI", text)
         STATE.message = text

@@ -93,6 +93,11 @@ def _parser():
     r.add_argument("--sampler", choices=("independent", "halton", "hammersley"),
                    help="sample generator: independent random numbers, or Owen-scrambled Halton or "
                         "Hammersley points per pixel (default: the scene's, independent)")
+    r.add_argument("--time-limit", type=float, help="stop after this many seconds of rendering (default: the scene's; "
+                                                    "0: none)")
+    r.add_argument("--noise-target", type=float,
+                   help="stop once the relative standard error of the image's mean luminance is at most this "
+                        "(e.g. 0.002; default: the scene's; 0: none)")
     r.add_argument("--threads", type=_non_negative_int, default=0, help="worker threads (0: all cores)")
     r.add_argument("--out", help="output OpenEXR file (default: cornell.exr or <scene>.exr); "
                                  "the sRGB PNG preview is written beside it")
@@ -146,7 +151,6 @@ def _fail(msg, code=EXIT_USAGE):
 
 def _render(args):
     from . import constants as C
-    from .film import develop
     from .io.exr import write_render
     from .io.png import write_png
     from .renderer import render
@@ -190,6 +194,10 @@ def _render(args):
     if args.sampler:
         st.sampler = {"independent": C.SAMPLER_INDEPENDENT, "halton": C.SAMPLER_HALTON,
                       "hammersley": C.SAMPLER_HAMMERSLEY}[args.sampler]
+    if args.time_limit is not None:
+        st.time_limit = args.time_limit
+    if args.noise_target is not None:
+        st.noise_target = args.noise_target
     validate(scene)
     out = Path(args.out or default_out)
     if out.suffix.lower() != ".exr":
@@ -214,7 +222,7 @@ def _render(args):
                              should_cancel=lambda: stop["requested"], spectral_bins=args.spectral_bins)
     finally:
         signal.signal(signal.SIGINT, old)
-    dev = develop(film.sums, white_balance=white_balance)
+    dev = film.develop(white_balance=white_balance)
     attrs = {"spectralgi.spp": str(stats.spp), "spectralgi.seed": str(st.seed),
              "spectralgi.maxDepth": str(st.max_depth)}
     spectral = (film.bin_centres(), film.spectral_radiance()) if film.spectral_bins else None
@@ -225,6 +233,9 @@ def _render(args):
                      + (f", kernel compile {stats.compile_seconds:.1f} s" if stats.compile_seconds > 0.5 else "")
                      + f"); mean luminance {float(dev.luminance.mean()):.4g} cd/m²\n")
     print(f"wrote {out} and {png}")
+    if stats.stop_reason in ("time_limit", "noise_target"):
+        sys.stderr.write(f"stopped at {stats.spp} of {st.spp} spp: {stats.stop_reason.replace('_', ' ')} reached "
+                         f"(relative error {stats.relative_error:.3g})\n")
     if stats.cancelled:
         sys.stderr.write(f"stopped early at {stats.spp} of {st.spp} spp\n")
         return EXIT_INTERRUPTED

@@ -14,9 +14,15 @@ from .colour import XYZ_to_Lab, XYZ_to_Luv, XYZ_to_sRGB_linear, XYZ_to_xyY, chro
 D65_XY = (0.3127, 0.3290)
 
 
+AOV_CHANNELS = 8  # albedo XYZ, normal xyz, depth sum, number of samples that hit
+FILM_FORMAT = "spectral-gi-film"
+FILM_VERSION = 1
+
+
 class Film:
     """Per-pixel sums. ``spectral_bins`` > 0 also keeps the spectral radiance in that many
-    equal bins of [LAMBDA_MIN, LAMBDA_MAX] (for spectral OpenEXR output)."""
+    equal bins of [LAMBDA_MIN, LAMBDA_MAX] (for spectral OpenEXR output). ``aov`` holds
+    the sums of the albedo, normal and depth passes (see :func:`develop`)."""
 
     def __init__(self, width, height, spectral_bins=0):
         self.width = int(width)
@@ -24,6 +30,7 @@ class Film:
         self.sums = np.zeros((self.height, self.width, C.FILM_CHANNELS), dtype=np.float64)
         n = int(spectral_bins)
         self.spectral = np.zeros((self.height, self.width, n) if n > 0 else (1, 1, 0), dtype=np.float64)
+        self.aov = np.zeros((self.height, self.width, AOV_CHANNELS), dtype=np.float64)
         self.spp = 0
 
     @property
@@ -45,11 +52,45 @@ class Film:
         f = Film(self.width, self.height)
         f.sums = self.sums.copy()
         f.spectral = self.spectral.copy()
+        f.aov = self.aov.copy()
         f.spp = self.spp
         return f
 
-    def develop(self):
-        return develop(self.sums)
+    def develop(self, white_luminance=C.K_M, white_balance=None):
+        return develop(self.sums, white_luminance, white_balance, aov=self.aov)
+
+    def save(self, path):
+        """Write the film (a checkpoint to resume from) as one .npz, atomically."""
+        import io
+        from pathlib import Path
+
+        from .io.atomic import write_bytes
+
+        buf = io.BytesIO()
+        np.savez_compressed(buf, format=np.array(FILM_FORMAT), version=np.array(FILM_VERSION),
+                            spp=np.array(self.spp, np.int64), sums=self.sums, spectral=self.spectral, aov=self.aov)
+        write_bytes(Path(path), buf.getvalue())
+        return Path(path)
+
+    @classmethod
+    def load(cls, path):
+        """Read a film written by :meth:`save`; ValueError naming the problem otherwise."""
+        try:
+            with np.load(path, allow_pickle=False) as z:
+                data = {k: z[k] for k in z.files}
+        except Exception as e:  # OSError, zipfile.BadZipFile, ValueError
+            raise ValueError(f"film {path}: cannot read ({e})") from None
+        if str(data.get("format", "")) != FILM_FORMAT or int(data.get("version", -1)) != FILM_VERSION:
+            raise ValueError(f"film {path}: not a spectral-gi film of version {FILM_VERSION}")
+        sums, spectral, aov = data["sums"], data["spectral"], data["aov"]
+        if sums.ndim != 3 or sums.shape[2] != C.FILM_CHANNELS or aov.shape != sums.shape[:2] + (AOV_CHANNELS,):
+            raise ValueError(f"film {path}: unexpected array shapes {sums.shape}, {aov.shape}")
+        f = cls(sums.shape[1], sums.shape[0])
+        f.sums = np.ascontiguousarray(sums, np.float64)
+        f.spectral = np.ascontiguousarray(spectral, np.float64)
+        f.aov = np.ascontiguousarray(aov, np.float64)
+        f.spp = int(data["spp"])
+        return f
 
 
 @dataclass
@@ -64,9 +105,12 @@ class Developed:
     Luv: np.ndarray = None  # (H, W, 3) CIE L*u*v* against the reference white below
     white_luminance: float = C.K_M  # cd/m² of the reference white (L* = 100)
     white_xy: tuple = D65_XY  # chromaticity of the reference white
+    albedo: np.ndarray = None  # (H, W, 3) linear Rec.709 reflectance of the first non-delta hit (under D65)
+    normal: np.ndarray = None  # (H, W, 3) mean world shading normal of the first hit, facing the camera
+    depth: np.ndarray = None  # (H, W) mean camera-ray distance to the first hit (m), inf where nothing was hit
 
 
-def develop(sums, white_luminance=C.K_M, white_balance=None):
+def develop(sums, white_luminance=C.K_M, white_balance=None, aov=None):
     """Turn film sums into images.
 
     white_luminance: luminance (cd/m²) of the white that L* = 100 refers to; the default
@@ -74,6 +118,8 @@ def develop(sums, white_luminance=C.K_M, white_balance=None):
     white_balance: None, or the xy chromaticity of the scene's light: then ``rgb`` (and
     only ``rgb``) is adapted from that white to D65 with Bradford's transform, as a
     camera's white balance would; XYZ, xyY, Lab and Luv stay unadapted.
+    aov: the film's AOV sums (Film.aov); then ``albedo``, ``normal`` (sums over the sample
+    count) and ``depth`` (over the samples that hit; inf if none did) are filled in.
     """
     n = sums[..., 3]
     safe = np.maximum(n, 1.0)
@@ -93,7 +139,16 @@ def develop(sums, white_luminance=C.K_M, white_balance=None):
     scale = C.K_M / float(white_luminance)  # film units → units of the reference white
     xyY = XYZ_to_xyY(XYZ, illuminant=np.array(D65_XY))
     xyY[..., 2] *= C.K_M
+    albedo = normal = depth = None
+    if aov is not None:
+        albedo = XYZ_to_sRGB_linear(aov[..., 0:3] / safe[..., None])
+        albedo[n == 0] = 0.0
+        normal = aov[..., 3:6] / safe[..., None]
+        hits = aov[..., 7]
+        depth = np.full(hits.shape, np.inf)
+        np.divide(aov[..., 6], hits, out=depth, where=hits > 0)
     return Developed(XYZ=XYZ, rgb=XYZ_to_sRGB_linear(rgb_xyz), luminance=C.K_M * mean_y,
                      variance=variance, count=n.copy(), xyY=xyY,
                      Lab=XYZ_to_Lab(XYZ * scale, np.array(D65_XY)), Luv=XYZ_to_Luv(XYZ * scale, np.array(D65_XY)),
-                     white_luminance=float(white_luminance), white_xy=D65_XY)
+                     white_luminance=float(white_luminance), white_xy=D65_XY, albedo=albedo, normal=normal,
+                     depth=depth)

@@ -84,6 +84,9 @@ class Prepared:
     world_row: int
     world_emit: int
     cam: np.ndarray
+    filt: np.ndarray
+    tri_nrm: np.ndarray
+    spec_alb: np.ndarray
     scene_scale: float
     build_seconds: float
     mat_medium: np.ndarray = None  # int32 (K,): interior medium of each material, -1 none
@@ -100,8 +103,11 @@ def cmf_table(observer="1931"):
                                          axis=1), np.float32)
 
 
-def camera_vector(cam):
-    """Pack a Camera into the float64[16] the kernel reads (Blender's sensor-fit rules)."""
+def camera_vector(cam, settings=None):
+    """Pack a Camera into the float64[CAM_SIZE] the kernel reads (Blender's sensor-fit rules;
+    layout in core/kernels/camera.py)."""
+    from .kernels import camera as K
+
     w, h = float(cam.width), float(cam.height)
     fit = cam.sensor_fit
     if fit == C.FIT_AUTO:
@@ -109,7 +115,10 @@ def camera_vector(cam):
         size = cam.sensor_width_mm  # AUTO: sensor width applies to the larger dimension
     else:
         size = cam.sensor_width_mm if fit == C.FIT_HORIZONTAL else cam.sensor_height_mm
-    half = 0.5 * size / cam.lens_mm
+    if cam.projection == C.CAM_ORTHOGRAPHIC:
+        half = 0.5 * cam.ortho_scale  # metres along the fitted axis (AUTO: the larger side)
+    else:
+        half = 0.5 * size / cam.lens_mm
     if fit == C.FIT_HORIZONTAL:
         half_w, half_h = half, half * h / w
     else:
@@ -117,14 +126,28 @@ def camera_vector(cam):
     extent = 2.0 * max(half_w, half_h)  # Blender's shift is in units of the larger dimension
     m = np.asarray(cam.to_world, dtype=np.float64)
     rot = m[:3, :3] / np.linalg.norm(m[:3, :3], axis=0)[None, :]
-    v = np.zeros(16)
+    v = np.zeros(K.CAM_SIZE)
     v[0:9] = rot.reshape(-1)
     v[9:12] = m[:3, 3]
-    v[12] = half_w
-    v[13] = half_h
-    v[14] = cam.shift_x * extent
-    v[15] = cam.shift_y * extent
+    v[K.CAM_HALF_W] = half_w
+    v[K.CAM_HALF_H] = half_h
+    v[K.CAM_OFF_X] = cam.shift_x * extent
+    v[K.CAM_OFF_Y] = cam.shift_y * extent
+    v[K.CAM_PROJ] = cam.projection
+    # thin lens: aperture radius = focal length / (2 f-number), in metres (as Cycles)
+    v[K.CAM_LENS_R] = 0.001 * cam.lens_mm / (2.0 * cam.fstop) if cam.fstop > 0 else 0.0
+    v[K.CAM_FOCUS] = cam.focus_distance
+    v[K.CAM_FILTER_W] = settings.filter_width if settings is not None else 1.0
     return v
+
+
+def filter_distribution(settings):
+    """The pixel filter's 1D distribution (box of 1 px when ``settings`` is None)."""
+    from .kernels.camera import filter_table
+
+    if settings is None:
+        return filter_table(C.FILTER_BOX, 1.0)
+    return filter_table(int(settings.filter), float(settings.filter_width))
 
 
 def _luminance_scale(shape_row, cmf, luminance, what):
@@ -248,6 +271,25 @@ def _world_image(world, cmf, scene_radius):
     flux_density = float(np.sum(lum * ((edges[:-1] - edges[1:]) * 2 * np.pi / w)[:, None]))
     par = np.array([np.cos(world.rotation), np.sin(world.rotation), float(world.image_scale), 1.0])
     return img, dist, par, basis, flux_density * np.pi * scene_radius ** 2
+
+
+def _shading_normals(scene, bvh):
+    """float32 (T, 9): each triangle's three vertex normals in leaf order (the geometric
+    normal for meshes without normals), or (0, 9) when no mesh has normals."""
+    if not any(m.normals is not None for m in scene.meshes):
+        return np.zeros((0, 9), np.float32)
+    parts = []
+    for mesh in scene.meshes:
+        idx = mesh.indices
+        if mesh.normals is not None:
+            parts.append(mesh.normals.astype(np.float64)[idx].reshape(-1, 9))
+        else:
+            p = mesh.positions.astype(np.float64)
+            ng = np.cross(p[idx[:, 1]] - p[idx[:, 0]], p[idx[:, 2]] - p[idx[:, 0]])
+            ln = np.linalg.norm(ng, axis=1, keepdims=True)
+            ng = np.divide(ng, ln, out=np.zeros_like(ng), where=ln > 0)
+            parts.append(np.tile(ng, 3))
+    return np.ascontiguousarray(np.concatenate(parts)[bvh.prims], np.float32)
 
 
 def _scene_radius(v0, v1, v2):
@@ -387,6 +429,12 @@ def prepare(scene: Scene) -> Prepared:
     world_row = spec.shape[0]
     if world_basis is not None:
         spec = np.concatenate([spec, world_basis.astype(np.float32)])
+    # the albedo AOV's colour: XYZ of every spectrum row under CIE D65 of Y = 1
+    dwl, d65 = presets.illuminant("D65")
+    d65 = np.interp(moments.grid(), dwl, d65)
+    cmf64 = cmf.astype(np.float64)
+    d65 /= float(d65 @ cmf64[:, 1] * C.LAMBDA_STEP)
+    spec_alb = np.ascontiguousarray((spec.astype(np.float64) * d65[None, :]) @ cmf64 * C.LAMBDA_STEP)
     n_world = 1 if power_world > 0 else 0
     power = np.concatenate([power_tri, [power_world] * n_world, power_light])
     emit_tri = np.concatenate([em_tris, np.full(n_world + n_l, -1, np.int32)])
@@ -434,7 +482,8 @@ def prepare(scene: Scene) -> Prepared:
                     mat_emis_two, np.ascontiguousarray(spec, np.float32), cmf, light_kind, light_geo, light_spec,
                     light_scale, light_two, light_vis, cdf, np.ascontiguousarray(prob), emit_tri, emit_light,
                     world_spec, world_scale, world_img, world_dist, world_par, int(world_row), world_emit,
-                    camera_vector(scene.camera), scene_scale,
+                    camera_vector(scene.camera, scene.settings), filter_distribution(scene.settings),
+                    _shading_normals(scene, bvh), spec_alb, scene_scale,
                     time.perf_counter() - t0, mat_medium, med_tab, med_g, cam_medium)
 
 
@@ -444,15 +493,15 @@ def _rows(prep, film, y0, y1, s0, s1):
     st = prep.scene.settings
     b = prep.bvh
     render_rows(film.sums, int(y0), int(y1), int(s0), int(s1), int(st.seed), int(st.max_depth), int(st.rr_depth),
-                float(prep.scene_scale), prep.cam,
+                float(prep.scene_scale), prep.cam, prep.filt,
                 b.bmin, b.bmax, b.child, b.count, b.axis, b.v0, b.e1, b.e2, prep.tri_mat, prep.tri_emitter,
                 prep.mat_model, prep.mat_p, prep.mat_ra, prep.mat_rb, prep.mat_eta, prep.mat_kappa, prep.mat_ior,
                 prep.ior_tab, prep.mat_emis, prep.mat_emis_scale, prep.mat_emis_two, prep.spec, prep.cmf,
                 prep.light_kind, prep.light_geo, prep.light_spec, prep.light_scale, prep.light_two_sided,
                 prep.light_visible, prep.emit_cdf, prep.emit_prob, prep.emit_tri, prep.emit_light,
                 int(prep.world_spec), float(prep.world_scale), prep.world_img, prep.world_dist, prep.world_par,
-                prep.world_row, prep.world_emit, film.spectral, int(st.sampler), int(st.spp),
-                prep.mat_medium, prep.med_tab, prep.med_g, int(prep.cam_medium))
+                prep.world_row, prep.world_emit, film.spectral, film.aov, prep.tri_nrm, prep.spec_alb, int(st.sampler),
+                int(st.spp), prep.mat_medium, prep.med_tab, prep.med_g, int(prep.cam_medium))
 
 
 def thread_count(threads=None):
@@ -488,6 +537,8 @@ class RenderStats:
     cancelled: bool
     build_seconds: float
     compile_seconds: float
+    stop_reason: str = "spp"  # "spp" (all samples), "time_limit", "noise_target" or "cancelled"
+    relative_error: float = float("nan")  # relative standard error of the image's mean luminance
 
 
 def kernels_compiled():
@@ -496,15 +547,36 @@ def kernels_compiled():
     return bool(render_rows.signatures)
 
 
+def relative_error(film):
+    """Relative standard error of the image's mean luminance, from the film's per-pixel
+    sums of Y and Y² (pixels are independent): sqrt(Σ var(pixel mean)) / Σ pixel mean."""
+    sums = film.sums
+    n = sums[..., 3]
+    if n.size == 0 or n.min() < 2:
+        return float("inf")
+    mean = sums[..., 1] / n
+    var = np.maximum(sums[..., 4] / n - mean * mean, 0.0) / (n - 1.0)
+    total = float(mean.sum())
+    se = float(np.sqrt(var.sum()))
+    if total <= 0.0:
+        return 0.0 if se == 0.0 else float("inf")
+    return se / total
+
+
 def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_pass=None, status=None,
-           spectral_bins=0):
+           spectral_bins=0, resume=None):
     """Render ``scene`` to a :class:`Film`.
 
     progress(done_spp, total_spp, samples_per_second) after each pass;
     should_cancel() → True stops after the current pass (the film keeps what was done);
     on_pass(film) after each pass (for progressive display);
     status(text) for phase messages ("Compiling kernels (first run only)", ...);
-    spectral_bins > 0 also records the spectral radiance in that many bins.
+    spectral_bins > 0 also records the spectral radiance in that many bins;
+    resume: a Film of this scene (e.g. from Film.load) to continue from its spp up to the
+    scene's; the result is bit-identical to rendering all samples at once (the Hammersley
+    sampler excepted: its points depend on the total). The given film is not modified.
+    The scene's settings.time_limit (s) and settings.noise_target (relative standard
+    error of the mean luminance) stop the render early; RenderStats.stop_reason says why.
     Returns (film, RenderStats).
     """
     say = status or (lambda text: None)
@@ -512,7 +584,16 @@ def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_
     say("Preparing scene")
     prep = prepare(scene)
     cam = scene.camera
-    film = Film(cam.width, cam.height, spectral_bins)
+    if resume is not None:
+        if (resume.width, resume.height) != (cam.width, cam.height):
+            raise SceneError(f"resume: the film is {resume.width}x{resume.height}, the scene renders "
+                             f"{cam.width}x{cam.height}")
+        if resume.spp > scene.settings.spp:
+            raise SceneError(f"resume: the film already has {resume.spp} spp, more than settings.spp = "
+                             f"{scene.settings.spp}")
+        film = resume.copy()
+    else:
+        film = Film(cam.width, cam.height, spectral_bins)
     total = int(scene.settings.spp)
     t_compile = 0.0
     if not kernels_compiled():
@@ -532,29 +613,46 @@ def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_
 
 def _progressive(prep, film, pool, total, progress, should_cancel, on_pass, t_compile):
     cam = prep.scene.camera
+    st = prep.scene.settings
     t0 = time.perf_counter()
-    done = 0
+    start = done = int(film.spp)
     step = 1
-    cancelled = False
+    reason = "spp"
     while done < total:
         if should_cancel is not None and should_cancel():
-            cancelled = True
+            reason = "cancelled"
             break
         n = min(step, total - done)
+        if st.time_limit > 0:  # aim the pass at what is left of the time
+            left = st.time_limit - (time.perf_counter() - t0)
+            if left <= 0:
+                reason = "time_limit"
+                break
         tp = time.perf_counter()
         run_pass(prep, film, done, done + n, pool)
         dt = time.perf_counter() - tp
         done += n
         elapsed = time.perf_counter() - t0
-        rate = done * cam.width * cam.height / max(elapsed, 1e-9)
+        rate = (done - start) * cam.width * cam.height / max(elapsed, 1e-9)
         if progress is not None:
             progress(done, total, rate)
         if on_pass is not None:
             on_pass(film)
-        # adapt the pass length towards PASS_SECONDS
+        if done >= total:
+            break
+        if st.time_limit > 0 and elapsed >= st.time_limit:
+            reason = "time_limit"
+            break
+        if st.noise_target > 0 and relative_error(film) <= st.noise_target:
+            reason = "noise_target"
+            break
+        # adapt the pass length towards PASS_SECONDS (and within a time limit)
         if dt > 0:
-            step = int(max(1, min(step * 4, round(n * PASS_SECONDS / dt))))
+            target = PASS_SECONDS
+            if st.time_limit > 0:
+                target = min(target, max(st.time_limit - elapsed, 0.0))
+            step = int(max(1, min(step * 4, round(n * target / dt))))
     elapsed = time.perf_counter() - t0
-    stats = RenderStats(done, elapsed, done * cam.width * cam.height / max(elapsed, 1e-9), cancelled,
-                        prep.build_seconds, t_compile)
+    stats = RenderStats(done, elapsed, (done - start) * cam.width * cam.height / max(elapsed, 1e-9),
+                        reason == "cancelled", prep.build_seconds, t_compile, reason, relative_error(film))
     return film, stats

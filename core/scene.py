@@ -450,8 +450,11 @@ def validate(scene: Scene) -> Scene:
     _check_number("camera.sensor_height_mm", cam.sensor_height_mm, lo=1e-3, hi=1e6)
     if cam.sensor_fit not in (C.FIT_AUTO, C.FIT_HORIZONTAL, C.FIT_VERTICAL):
         _fail("camera.sensor_fit", f"unknown sensor fit {cam.sensor_fit}")
-    if cam.projection != C.CAM_PERSPECTIVE:
-        _fail("camera.projection", f"unknown projection {cam.projection}")
+    if isinstance(cam.projection, bool) or cam.projection not in (C.CAM_PERSPECTIVE, C.CAM_ORTHOGRAPHIC):
+        _fail("camera.projection", f"unknown projection {cam.projection} (0 perspective, 1 orthographic)")
+    _check_number("camera.ortho_scale", cam.ortho_scale, lo=1e-9, hi=1e9)
+    _check_number("camera.fstop", cam.fstop, lo=0.0, hi=1e6)
+    _check_number("camera.focus_distance", cam.focus_distance, lo=1e-6, hi=1e12)
     _check_number("camera.shift_x", cam.shift_x, lo=-100, hi=100)
     _check_number("camera.shift_y", cam.shift_y, lo=-100, hi=100)
     rot = np.asarray(cam.to_world)[:3, :3]
@@ -479,6 +482,12 @@ def validate(scene: Scene) -> Scene:
     _check_number("settings.sampler", s.sampler, integer=True)
     if s.sampler not in (C.SAMPLER_INDEPENDENT, C.SAMPLER_HALTON, C.SAMPLER_HAMMERSLEY):
         _fail("settings.sampler", f"unknown sampler {s.sampler} (0 independent, 1 Halton, 2 Hammersley)")
+    _check_number("settings.filter", s.filter, integer=True)
+    if s.filter not in (C.FILTER_BOX, C.FILTER_BLACKMAN_HARRIS, C.FILTER_GAUSSIAN):
+        _fail("settings.filter", f"unknown pixel filter {s.filter} (0 box, 1 Blackman-Harris, 2 Gaussian)")
+    _check_number("settings.filter_width", s.filter_width, lo=0.01, hi=64.0)
+    _check_number("settings.time_limit", s.time_limit, lo=0.0)
+    _check_number("settings.noise_target", s.noise_target, lo=0.0, hi=1e6)
     return scene
 
 

@@ -30,7 +30,8 @@ def plane_scene(lights, res=12, half_view=0.8, spp=32, max_depth=0, seed=1):
     for li in lights:
         li.spectrum = e
     return Scene(meshes=[plane], spectra=spectra, materials=[Material("plane", reflectance=r)], lights=list(lights),
-                 camera=cam, settings=RenderSettings(spp=spp, max_depth=max_depth, seed=seed, filter=C.FILTER_BOX))
+                 camera=cam, settings=RenderSettings(spp=spp, max_depth=max_depth, seed=seed, filter=C.FILTER_BOX,
+                                                 filter_width=1.0))
 
 
 def ground_points(sc, sub=6):

@@ -31,7 +31,8 @@ def plane_scene(normal=(0.0, 0.0, 1.0), world=None, spp=64, res=6):
     cam = Camera(look_at(2.0 * n, (0, 0, 0), up=tuple(b)), width=res, height=res, lens_mm=2000.0)
     return Scene(meshes=[Mesh("plane", quad, np.array([[0, 1, 2], [0, 2, 3]], np.int32), np.zeros(2, np.int32))],
                  spectra=spectra, materials=[Material("plane", reflectance=r)], camera=cam,
-                 world=world or World(), settings=RenderSettings(spp=spp, max_depth=0, seed=4, filter=C.FILTER_BOX))
+                 world=world or World(),
+                 settings=RenderSettings(spp=spp, max_depth=0, seed=4, filter=C.FILTER_BOX, filter_width=1.0))
 
 
 def hdr_map(h=16, w=32, seed=3):

@@ -113,20 +113,29 @@ def _is_reflective(model):
     return model != C.MAT_DIELECTRIC and model != C.MAT_GGX_DIELECTRIC
 
 
-@function
-def bsdf_eval(model, p, ra, rb, eta, kappa, wo_x, wo_y, wo_z, wi_x, wi_y, wi_z, out_f):
-    """f(wo, wi) into out_f[NW] (no cosine); returns the pdf of sampling wi."""
+@inline
+def _sides(model, p, wo_z, wi_z):
+    """(ok, wo_z, wi_z): the side handling of bsdf_eval / bsdf_pdf (module docstring);
+    ok False where the BSDF is 0."""
     if _is_reflective(model):
         if not (wo_z > 0.0):
             if wo_z < 0.0 and p[P_TWO_SIDED] != 0.0:
                 wo_z = -wo_z
                 wi_z = -wi_z
             else:
-                zero(out_f)
-                return 0.0
+                return False, wo_z, wi_z
         if not (wi_z > 0.0):
-            zero(out_f)
-            return 0.0
+            return False, wo_z, wi_z
+    return True, wo_z, wi_z
+
+
+@function
+def bsdf_eval(model, p, ra, rb, eta, kappa, wo_x, wo_y, wo_z, wi_x, wi_y, wi_z, out_f):
+    """f(wo, wi) into out_f[NW] (no cosine); returns the pdf of sampling wi."""
+    ok, wo_z, wi_z = _sides(model, p, wo_z, wi_z)
+    if not ok:
+        zero(out_f)
+        return 0.0
     return evaluate_models(model, p, ra, rb, eta, kappa, wo_x, wo_y, wo_z, wi_x, wi_y, wi_z, out_f, True)
 
 
@@ -134,15 +143,9 @@ def bsdf_eval(model, p, ra, rb, eta, kappa, wo_x, wo_y, wo_z, wi_x, wi_y, wi_z, 
 def bsdf_pdf(model, p, ra, rb, eta, kappa, wo_x, wo_y, wo_z, wi_x, wi_y, wi_z):
     """Solid-angle pdf of sampling wi given wo (0 for delta components): bsdf_eval's code
     with want_f = False (out_f is never written; ra stands in for it)."""
-    if _is_reflective(model):
-        if not (wo_z > 0.0):
-            if wo_z < 0.0 and p[P_TWO_SIDED] != 0.0:
-                wo_z = -wo_z
-                wi_z = -wi_z
-            else:
-                return 0.0
-        if not (wi_z > 0.0):
-            return 0.0
+    ok, wo_z, wi_z = _sides(model, p, wo_z, wi_z)
+    if not ok:
+        return 0.0
     return evaluate_models(model, p, ra, rb, eta, kappa, wo_x, wo_y, wo_z, wi_x, wi_y, wi_z, ra, False)
 
 

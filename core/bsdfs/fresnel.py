@@ -102,6 +102,17 @@ def fresnel_dielectric(cos_i, eta):
 
 
 @inline
+def mean_fresnel_dielectric(eta, cos_i):
+    """The mean over the wavelengths of F(cos_i, eta[λ]): the probability with which the
+    dielectrics choose reflection."""
+    nw = eta.shape[0]
+    s = 0.0
+    for i in range(nw):
+        s += fresnel_dielectric(cos_i, eta[i])
+    return s / nw
+
+
+@inline
 def refract_cos(cos_i, eta):
     """cos θt (≥ 0) of the refracted direction, or -1 under total internal reflection.
 

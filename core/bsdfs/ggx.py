@@ -35,8 +35,8 @@ Roughness is clamped to α ≥ ALPHA_MIN.
 import math
 
 from ..jit import function, inline
-from .common import all_equal, clamp01, reflect, zero
-from .fresnel import fresnel_conductor, fresnel_dielectric, refract_cos
+from .common import all_equal, clamp01, half_vector, reflect, reflect_glossy, zero
+from .fresnel import fresnel_conductor, fresnel_dielectric, mean_fresnel_dielectric, refract_cos
 from .microfacet import ggx_d, ggx_g1, ggx_g2, ggx_vndf_pdf, sample_ggx_vndf
 from .params import (ALPHA_MIN, BSDF_DELTA, BSDF_DISPERSIVE, BSDF_GLOSSY, BSDF_REFLECTION, BSDF_TRANSMISSION,
                      P_ALPHA_X, P_ALPHA_Y)
@@ -49,34 +49,7 @@ def _alphas(p):
     return max(p[P_ALPHA_X], ALPHA_MIN), max(p[P_ALPHA_Y], ALPHA_MIN)
 
 
-# -- conductor ---------------------------------------------------------------------------
-
-@function
-def ggx_conductor_eval(p, ra, eta, kappa, wox, woy, woz, wix, wiy, wiz, out_f, want_f):
-    ax, ay = _alphas(p)
-    hx = wox + wix
-    hy = woy + wiy
-    hz = woz + wiz
-    hl = math.sqrt(hx * hx + hy * hy + hz * hz)
-    if not (hl > 0.0):
-        if want_f:
-            zero(out_f)
-        return 0.0
-    hx /= hl
-    hy /= hl
-    hz /= hl
-    doh = wox * hx + woy * hy + woz * hz
-    d = ggx_d(hx, hy, hz, ax, ay)
-    if not (doh > 0.0) or not (d > 0.0):
-        if want_f:
-            zero(out_f)
-        return 0.0
-    if want_f:
-        base = d * ggx_g2(wox, woy, woz, wix, wiy, wiz, ax, ay) / (4.0 * woz * wiz)
-        for i in range(ra.shape[0]):
-            out_f[i] = clamp01(ra[i]) * fresnel_conductor(doh, eta[i], kappa[i]) * base
-    return ggx_g1(wox, woy, woz, ax, ay) * d / (4.0 * woz)
-
+# -- reflection: the conductor (and the plastic's coat) -----------------------------------
 
 @inline
 def ggx_reflection(p, wox, woy, woz, wix, wiy, wiz, want_f):
@@ -84,15 +57,9 @@ def ggx_reflection(p, wox, woy, woz, wix, wiy, wiz, want_f):
     (wo·h, D G2 / (4 cos θo cos θi) (0 unless want_f), pdf of ``ggx_reflect_sample_dir``);
     (0, 0, 0) where no facet reflects wo into wi."""
     ax, ay = _alphas(p)
-    hx = wox + wix
-    hy = woy + wiy
-    hz = woz + wiz
-    hl = math.sqrt(hx * hx + hy * hy + hz * hz)
-    if not (hl > 0.0):
+    hx, hy, hz, ok = half_vector(wox, woy, woz, wix, wiy, wiz)
+    if not ok:
         return 0.0, 0.0, 0.0
-    hx /= hl
-    hy /= hl
-    hz /= hl
     doh = wox * hx + woy * hy + woz * hz
     d = ggx_d(hx, hy, hz, ax, ay)
     if not (doh > 0.0) or not (d > 0.0):
@@ -104,6 +71,18 @@ def ggx_reflection(p, wox, woy, woz, wix, wiy, wiz, want_f):
 
 
 @function
+def ggx_conductor_eval(p, ra, eta, kappa, wox, woy, woz, wix, wiy, wiz, out_f, want_f):
+    doh, base, pdf = ggx_reflection(p, wox, woy, woz, wix, wiy, wiz, want_f)
+    if want_f:
+        if doh > 0.0:
+            for i in range(ra.shape[0]):
+                out_f[i] = clamp01(ra[i]) * fresnel_conductor(doh, eta[i], kappa[i]) * base
+        else:
+            zero(out_f)
+    return pdf
+
+
+@function
 def ggx_reflect_sample_dir(p, wox, woy, woz, u1, u2):
     """wi = mirror of wo (upper side) about a visible GGX normal (the conductor's and
     the plastic coat's sampler)."""
@@ -111,22 +90,10 @@ def ggx_reflect_sample_dir(p, wox, woy, woz, u1, u2):
     hx, hy, hz = sample_ggx_vndf(wox, woy, woz, ax, ay, u1, u2)
     if not (wox * hx + woy * hy + woz * hz > 0.0):
         return 0.0, 0.0, 1.0, 0
-    x, y, z = reflect(wox, woy, woz, hx, hy, hz)
-    if not (z > 0.0):
-        return 0.0, 0.0, 1.0, 0
-    return x, y, z, BSDF_REFLECTION | BSDF_GLOSSY
+    return reflect_glossy(wox, woy, woz, hx, hy, hz)
 
 
 # -- dielectric ---------------------------------------------------------------------------
-
-@inline
-def _reflect_prob(eta, cos_oh):
-    nw = eta.shape[0]
-    s = 0.0
-    for i in range(nw):
-        s += fresnel_dielectric(cos_oh, eta[i])
-    return s / nw
-
 
 @inline
 def _rel_eta(eta_i, woz):
@@ -137,11 +104,9 @@ def _rel_eta(eta_i, woz):
 
 
 @inline
-def _transmission_half(wox, woy, woz, wix, wiy, wiz, er):
-    """Generalised half vector h ∝ −(wo + η_r wi), z ≥ 0; (hx, hy, hz, doh, dih, ok)."""
-    hx = -(wox + er * wix)
-    hy = -(woy + er * wiy)
-    hz = -(woz + er * wiz)
+def _oriented_half(hx, hy, hz, wox, woy, woz, wix, wiy, wiz):
+    """(hx, hy, hz) normalised and turned to z ≥ 0, with wo·h, wi·h and whether both
+    directions see the facet from their own side: (hx, hy, hz, doh, dih, ok)."""
     hl = math.sqrt(hx * hx + hy * hy + hz * hz)
     if not (hl > 0.0) or hl == math.inf:
         return 0.0, 0.0, 1.0, 0.0, 0.0, False
@@ -168,20 +133,8 @@ def ggx_dielectric_eval(p, ra, rb, eta, wox, woy, woz, wix, wiy, wiz, out_f, wan
     g2 = ggx_g2(wox, woy, woz, wix, wiy, wiz, ax, ay)
     cc = abs(woz * wiz)
     if woz * wiz > 0.0:
-        hx = wox + wix
-        hy = woy + wiy
-        hz = woz + wiz
-        hl = math.sqrt(hx * hx + hy * hy + hz * hz)
-        if not (hl > 0.0):
-            return 0.0
-        if hz < 0.0:
-            hl = -hl
-        hx /= hl
-        hy /= hl
-        hz /= hl
-        doh = wox * hx + woy * hy + woz * hz
-        dih = wix * hx + wiy * hy + wiz * hz
-        if not (doh * woz > 0.0) or not (dih * wiz > 0.0):
+        hx, hy, hz, doh, dih, ok = _oriented_half(wox + wix, woy + wiy, woz + wiz, wox, woy, woz, wix, wiy, wiz)
+        if not ok:
             return 0.0
         d = ggx_d(hx, hy, hz, ax, ay)
         base = d * g2 / (4.0 * cc)
@@ -200,7 +153,9 @@ def ggx_dielectric_eval(p, ra, rb, eta, wox, woy, woz, wix, wiy, wiz, out_f, wan
         er = _rel_eta(eta[i], woz)
         if abs(er - 1.0) < ETA_ONE_TOL:
             continue  # index-matched: a delta pass-through, never evaluated
-        hx, hy, hz, doh, dih, ok = _transmission_half(wox, woy, woz, wix, wiy, wiz, er)
+        # generalised half vector h ∝ −(wo + η_r wi)
+        hx, hy, hz, doh, dih, ok = _oriented_half(-(wox + er * wix), -(woy + er * wiy), -(woz + er * wiz),
+                                                  wox, woy, woz, wix, wiy, wiz)
         if not ok:
             continue
         den = doh + er * dih
@@ -208,7 +163,7 @@ def ggx_dielectric_eval(p, ra, rb, eta, wox, woy, woz, wix, wiy, wiz, out_f, wan
         if not (den2 > 0.0):
             continue
         if i == 0:
-            pdf = (ggx_vndf_pdf(wox, woy, woz, hx, hy, hz, ax, ay) * (1.0 - _reflect_prob(eta, doh))
+            pdf = (ggx_vndf_pdf(wox, woy, woz, hx, hy, hz, ax, ay) * (1.0 - mean_fresnel_dielectric(eta, doh))
                    * er * er * abs(dih) / den2)
         if want_f:
             out_f[i] = (clamp01(ra[i]) * (1.0 - fresnel_dielectric(doh, eta[i])) * ggx_d(hx, hy, hz, ax, ay) * g2
@@ -228,7 +183,7 @@ def ggx_dielectric_sample_dir(p, ra, eta, wox, woy, woz, u1, u2, u3, out_w):
     doh = wox * hx + woy * hy + woz * hz
     if not (doh * s > 0.0):
         return 0.0, 0.0, 1.0, 0
-    pr = _reflect_prob(eta, doh)
+    pr = mean_fresnel_dielectric(eta, doh)
     dispersive = not all_equal(eta)
     if u3 < pr:
         x, y, z = reflect(wox, woy, woz, hx, hy, hz)

@@ -39,7 +39,7 @@ from .. import constants as C
 from ..jit import function, inline
 from ..sampling.lobes import sample_offnormal_cosn
 from ..sampling.warps import sample_cosine_hemisphere
-from .common import INV_PI, INV_TWO_PI, bounded_pair, pow_pos
+from .common import INV_PI, INV_TWO_PI, lobe_sums, pow_pos
 from .params import (BSDF_DIFFUSE, BSDF_GLOSSY, BSDF_REFLECTION, LAF_MAX_LOBES, P_EXPONENT, P_LAF_A_MAX,
                      P_LAF_LOBES, P_LAF_N_LOBES)
 
@@ -129,6 +129,22 @@ def _a_max(model, p):
     return p[P_LAF_A_MAX]
 
 
+@inline
+def _lobe_seen_from(model, p, k, wox, woy, woz):
+    """Lobe k for this wo: v = C ⊙ wo, |v| (0: the lobe is absent), the exponent n, its
+    rounding m and the digon moments (g, f) of order m about v̂, and the lobe's scale."""
+    cx, cy, cz, n, scale = _lobe(model, p, k)
+    vx = cx * wox
+    vy = cy * woy
+    vz = cz * woz
+    r = math.sqrt(vx * vx + vy * vy + vz * vz)
+    if not (r > 0.0):
+        return vx, vy, vz, 0.0, n, 0.0, 0.0, 0.0, scale
+    mm = math.floor(n + 0.5)
+    g, f = digon_moments(mm, vz / r)
+    return vx, vy, vz, r, n, mm, g, f, scale
+
+
 @function
 def lobes_eval(model, p, ra, rb, wox, woy, woz, wix, wiy, wiz, out_f, want_f):
     """f and the mixture pdf of the lobe models (MAT_PHONG, MAT_LAFORTUNE).
@@ -140,30 +156,15 @@ def lobes_eval(model, p, ra, rb, wox, woy, woz, wix, wiy, wiz, out_f, want_f):
     swp = 0.0
     lobes = 0.0
     for k in range(_n_lobes(model, p)):
-        cx, cy, cz, n, scale = _lobe(model, p, k)
-        vx = cx * wox
-        vy = cy * woy
-        vz = cz * woz
-        r = math.sqrt(vx * vx + vy * vy + vz * vz)
+        vx, vy, vz, r, n, mm, g, f, scale = _lobe_seen_from(model, p, k, wox, woy, woz)
         if not (r > 0.0):
             continue
         lobes += scale * pow_pos(vx * wix + vy * wiy + vz * wiz, n)
-        mm = math.floor(n + 0.5)
-        g, f = digon_moments(mm, vz / r)
         w = scale * pow_pos(r, n) * f
         if w > 0.0 and g > 0.0:
             sw += w
             swp += w * pow_pos((vx * wix + vy * wiy + vz * wiz) / r, mm) / g
-    a_max = _a_max(model, p)
-    nw = ra.shape[0]
-    md = 0.0
-    ms = 0.0
-    for i in range(nw):
-        d, s = bounded_pair(ra[i], rb[i], a_max)
-        md += d
-        ms += s
-        if want_f:
-            out_f[i] = d * INV_PI + s * lobes
+    md, ms = lobe_sums(ra, rb, _a_max(model, p), lobes, out_f, want_f)
     tot = md + ms * sw
     if not (tot > 0.0):
         return 0.0
@@ -176,14 +177,8 @@ def lobes_sample_dir(model, p, ra, rb, wox, woy, woz, u1, u2, u3):
     component c replaces the current choice with probability w_c / Σ_{c' ≤ c} w_c', which
     selects c with probability w_c / Σ w), and u3 is rescaled into a fresh uniform for
     the chosen lobe's rejection stream."""
-    a_max = _a_max(model, p)
     nw = ra.shape[0]
-    md = 0.0
-    ms = 0.0
-    for i in range(nw):
-        d, s = bounded_pair(ra[i], rb[i], a_max)
-        md += d
-        ms += s
+    md, ms = lobe_sums(ra, rb, _a_max(model, p), 0.0, ra, False)
     md /= nw
     ms /= nw
     chosen = -1 if md > 0.0 else -2
@@ -194,15 +189,9 @@ def lobes_sample_dir(model, p, ra, rb, wox, woy, woz, u1, u2, u3):
     cy_ = 0.0
     cz_ = 0.0
     for k in range(_n_lobes(model, p)):
-        cx, cy, cz, n, scale = _lobe(model, p, k)
-        vx = cx * wox
-        vy = cy * woy
-        vz = cz * woz
-        r = math.sqrt(vx * vx + vy * vy + vz * vz)
+        vx, vy, vz, r, n, mm, g, f, scale = _lobe_seen_from(model, p, k, wox, woy, woz)
         if not (r > 0.0):
             continue
-        mm = math.floor(n + 0.5)
-        g, f = digon_moments(mm, vz / r)
         w = ms * scale * pow_pos(r, n) * f
         if not (w > 0.0) or not (g > 0.0):
             continue

@@ -138,6 +138,13 @@ def _alpha(name, a):
     return max(a, ALPHA_MIN)  # α = 0 is clamped: use a smooth model for a perfect mirror
 
 
+def _set_alphas(p, alpha_x, alpha_y):
+    """Roughness entries 1 (α_x) and 2 (α_y; None: isotropic, α_y = α_x) of row p."""
+    p[P_ALPHA_X] = _alpha("alpha_x", alpha_x)
+    p[P_ALPHA_Y] = p[P_ALPHA_X] if alpha_y is None else _alpha("alpha_y", alpha_y)
+    return p
+
+
 def lambert_params(two_sided=True):
     """Item 47: f = ρ/π with ρ = ra."""
     p = _row()
@@ -174,8 +181,7 @@ def ward_params(alpha_x, alpha_y=None, variant="bounded", two_sided=True):
     """
     p = _row()
     p[P_TWO_SIDED] = _flag("two_sided", two_sided)
-    p[P_ALPHA_X] = _alpha("alpha_x", alpha_x)
-    p[P_ALPHA_Y] = p[P_ALPHA_X] if alpha_y is None else _alpha("alpha_y", alpha_y)
+    _set_alphas(p, alpha_x, alpha_y)
     if isinstance(variant, str):
         key = variant.lower()
         if key not in _WARD_VARIANTS:
@@ -280,17 +286,13 @@ def ggx_conductor_params(alpha_x, alpha_y=None, two_sided=True):
     """Rough conductor: GGX (Trowbridge–Reitz) microfacets, complex Fresnel; alpha_y = None: isotropic."""
     p = _row()
     p[P_TWO_SIDED] = _flag("two_sided", two_sided)
-    p[P_ALPHA_X] = _alpha("alpha_x", alpha_x)
-    p[P_ALPHA_Y] = p[P_ALPHA_X] if alpha_y is None else _alpha("alpha_y", alpha_y)
+    _set_alphas(p, alpha_x, alpha_y)
     return p
 
 
 def ggx_dielectric_params(alpha_x, alpha_y=None):
     """Rough dielectric (Walter et al. 2007): GGX reflection and transmission."""
-    p = _row()
-    p[P_ALPHA_X] = _alpha("alpha_x", alpha_x)
-    p[P_ALPHA_Y] = p[P_ALPHA_X] if alpha_y is None else _alpha("alpha_y", alpha_y)
-    return p
+    return _set_alphas(_row(), alpha_x, alpha_y)
 
 
 def plastic_params(alpha_x, alpha_y=None, two_sided=True):
@@ -298,8 +300,7 @@ def plastic_params(alpha_x, alpha_y=None, two_sided=True):
     Kelemen-style coupled (plastic.py); alpha_y = None: isotropic."""
     p = _row()
     p[P_TWO_SIDED] = _flag("two_sided", two_sided)
-    p[P_ALPHA_X] = _alpha("alpha_x", alpha_x)
-    p[P_ALPHA_Y] = p[P_ALPHA_X] if alpha_y is None else _alpha("alpha_y", alpha_y)
+    _set_alphas(p, alpha_x, alpha_y)
     return p
 
 

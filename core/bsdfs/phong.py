@@ -21,8 +21,9 @@ import math
 
 from ..jit import function, inline
 from ..sampling.warps import cosn_pdf, sample_cosine_hemisphere, sample_cosn
-from .common import INV_PI, bounded_pair, clamp01, pow_pos, reflect
-from .params import BSDF_DIFFUSE, BSDF_GLOSSY, BSDF_REFLECTION, P_EXPONENT
+from .common import (INV_PI, clamp01, diffuse_glossy_pdf, glossy_prob, half_vector, lobe_sums, pow_pos,
+                     reflect_glossy)
+from .params import BSDF_DIFFUSE, BSDF_REFLECTION, P_EXPONENT
 
 
 # -- Lambert (item 47) ---------------------------------------------------------------
@@ -51,55 +52,24 @@ def blinn_norm(n):
     return (n + 2.0) * (n + 4.0) / (8.0 * math.pi * (n + math.exp(-0.5 * n * math.log(2.0))))
 
 
-@inline
-def _blinn_select(ra, rb):
-    nw = ra.shape[0]
-    md = 0.0
-    ms = 0.0
-    for i in range(nw):
-        d, s = bounded_pair(ra[i], rb[i], 1.0)
-        md += d
-        ms += s
-    tot = md + ms
-    if not (tot > 0.0):
-        return -1.0
-    return ms / tot
-
-
 @function
 def blinn_eval(p, ra, rb, wox, woy, woz, wix, wiy, wiz, out_f, want_f):
     n = p[P_EXPONENT]
-    hx = wox + wix
-    hy = woy + wiy
-    hz = woz + wiz
-    hl = math.sqrt(hx * hx + hy * hy + hz * hz)
+    hx, hy, hz, ok = half_vector(wox, woy, woz, wix, wiy, wiz)
     lobe = 0.0
     pdf_s = 0.0
-    if hl > 0.0:
-        hx /= hl
-        hy /= hl
-        hz /= hl
+    if ok:
         lobe = blinn_norm(n) * pow_pos(hz, n)
         doh = wox * hx + woy * hy + woz * hz
         if doh > 0.0:
             pdf_s = cosn_pdf(n, hx, hy, hz) / (4.0 * doh)
-    md = 0.0
-    ms = 0.0
-    for i in range(ra.shape[0]):
-        d, s = bounded_pair(ra[i], rb[i], 1.0)
-        md += d
-        ms += s
-        if want_f:
-            out_f[i] = d * INV_PI + s * lobe
-    tot = md + ms
-    if not (tot > 0.0):
-        return 0.0
-    return (md * wiz * INV_PI + ms * pdf_s) / tot
+    md, ms = lobe_sums(ra, rb, 1.0, lobe, out_f, want_f)
+    return diffuse_glossy_pdf(md, ms, wiz, pdf_s)
 
 
 @function
 def blinn_sample_dir(p, ra, rb, wox, woy, woz, u1, u2, u3):
-    ps = _blinn_select(ra, rb)
+    ps = glossy_prob(ra, rb)
     if ps < 0.0:
         return 0.0, 0.0, 1.0, 0
     if u3 < ps:
@@ -107,11 +77,5 @@ def blinn_sample_dir(p, ra, rb, wox, woy, woz, u1, u2, u3):
         doh = wox * hx + woy * hy + woz * hz
         if not (ph > 0.0) or not (doh > 0.0):
             return 0.0, 0.0, 1.0, 0
-        x, y, z = reflect(wox, woy, woz, hx, hy, hz)
-        fl = BSDF_REFLECTION | BSDF_GLOSSY
-    else:
-        x, y, z, _ = sample_cosine_hemisphere(u1, u2)
-        fl = BSDF_REFLECTION | BSDF_DIFFUSE
-    if not (z > 0.0):
-        return 0.0, 0.0, 1.0, 0
-    return x, y, z, fl
+        return reflect_glossy(wox, woy, woz, hx, hy, hz)
+    return lambert_sample_dir(u1, u2)

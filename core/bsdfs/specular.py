@@ -21,9 +21,9 @@ Dispersion: when eta differs across the wavelengths, the refracted direction dep
 out_w[0] is set (the others are 0) and the flag DISPERSIVE tells the caller to drop
 the companions. Reflection never disperses.
 """
-from ..jit import function, inline
+from ..jit import function
 from .common import all_equal, clamp01, zero
-from .fresnel import fresnel_conductor, fresnel_dielectric, refract_cos
+from .fresnel import fresnel_conductor, fresnel_dielectric, mean_fresnel_dielectric, refract_cos
 from .params import BSDF_DELTA, BSDF_DISPERSIVE, BSDF_REFLECTION, BSDF_TRANSMISSION
 
 
@@ -41,22 +41,13 @@ def conductor_sample(ra, eta, kappa, wox, woy, woz, out_w):
     return -wox, -woy, woz, BSDF_REFLECTION | BSDF_DELTA
 
 
-@inline
-def dielectric_reflect_prob(eta, cos_o):
-    nw = eta.shape[0]
-    s = 0.0
-    for i in range(nw):
-        s += fresnel_dielectric(cos_o, eta[i])
-    return s / nw
-
-
 @function
 def dielectric_sample(ra, rb, eta, wox, woy, woz, u3, out_w):
     nw = ra.shape[0]
     if not (woz > 0.0 or woz < 0.0) or not (eta[0] > 0.0):
         zero(out_w)
         return 0.0, 0.0, 1.0, 0
-    pr = dielectric_reflect_prob(eta, woz)
+    pr = mean_fresnel_dielectric(eta, woz)
     if u3 < pr:
         for i in range(nw):
             out_w[i] = clamp01(rb[i]) * fresnel_dielectric(woz, eta[i]) / pr

@@ -38,27 +38,11 @@ parts are chosen in proportion to the wavelength-averaged ρd and ρs.
 import math
 
 from ..jit import function, inline
-from ..sampling.warps import sample_cosine_hemisphere
-from .common import INV_PI, bounded_pair, reflect
-from .params import (ALPHA_MIN, BSDF_DIFFUSE, BSDF_GLOSSY, BSDF_REFLECTION, P_ALPHA_X, P_ALPHA_Y,
-                     P_WARD_VARIANT, WARD_DUER, WARD_ORIGINAL)
+from .common import diffuse_glossy_pdf, glossy_prob, half_vector, lobe_sums, reflect_glossy
+from .params import ALPHA_MIN, P_ALPHA_X, P_ALPHA_Y, P_WARD_VARIANT, WARD_DUER, WARD_ORIGINAL
+from .phong import lambert_sample_dir
 
 TWO_PI = 2.0 * math.pi
-
-
-@inline
-def _ward_select(ra, rb):
-    nw = ra.shape[0]
-    md = 0.0
-    ms = 0.0
-    for i in range(nw):
-        d, s = bounded_pair(ra[i], rb[i], 1.0)
-        md += d
-        ms += s
-    tot = md + ms
-    if not (tot > 0.0):
-        return -1.0
-    return ms / tot
 
 
 @inline
@@ -80,16 +64,10 @@ def ward_eval(p, ra, rb, wox, woy, woz, wix, wiy, wiz, out_f, want_f):
     ax = max(p[P_ALPHA_X], ALPHA_MIN)
     ay = max(p[P_ALPHA_Y], ALPHA_MIN)
     variant = int(p[P_WARD_VARIANT])
-    hx = wox + wix
-    hy = woy + wiy
-    hz = woz + wiz
-    hl = math.sqrt(hx * hx + hy * hy + hz * hz)
+    hx, hy, hz, ok = half_vector(wox, woy, woz, wix, wiy, wiz)
     spec = 0.0
     pdf_s = 0.0
-    if hl > 0.0:
-        hx /= hl
-        hy /= hl
-        hz /= hl
+    if ok:
         doh = wox * hx + woy * hy + woz * hz
         if hz > 0.0 and doh > 0.0:
             h2 = hz * hz
@@ -103,23 +81,13 @@ def ward_eval(p, ra, rb, wox, woy, woz, wix, wiy, wiz, out_f, want_f):
                 spec = g / (doh * doh * h2 * h2)
             # Walter 2005: p(h) = exp(-e) / (π α_x α_y cos³θh), p(wi) = p(h) / (4 wo·h)
             pdf_s = ex / (math.pi * ax * ay * h2 * hz) / (4.0 * doh)
-    md = 0.0
-    ms = 0.0
-    for i in range(ra.shape[0]):
-        d, s = bounded_pair(ra[i], rb[i], 1.0)
-        md += d
-        ms += s
-        if want_f:
-            out_f[i] = d * INV_PI + s * spec
-    tot = md + ms
-    if not (tot > 0.0):
-        return 0.0
-    return (md * wiz * INV_PI + ms * pdf_s) / tot
+    md, ms = lobe_sums(ra, rb, 1.0, spec, out_f, want_f)
+    return diffuse_glossy_pdf(md, ms, wiz, pdf_s)
 
 
 @function
 def ward_sample_dir(p, ra, rb, wox, woy, woz, u1, u2, u3):
-    ps = _ward_select(ra, rb)
+    ps = glossy_prob(ra, rb)
     if ps < 0.0:
         return 0.0, 0.0, 1.0, 0
     if u3 < ps:
@@ -129,11 +97,5 @@ def ward_sample_dir(p, ra, rb, wox, woy, woz, u1, u2, u3):
         doh = wox * hx + woy * hy + woz * hz
         if not (doh > 0.0):
             return 0.0, 0.0, 1.0, 0
-        x, y, z = reflect(wox, woy, woz, hx, hy, hz)
-        fl = BSDF_REFLECTION | BSDF_GLOSSY
-    else:
-        x, y, z, _ = sample_cosine_hemisphere(u1, u2)
-        fl = BSDF_REFLECTION | BSDF_DIFFUSE
-    if not (z > 0.0):
-        return 0.0, 0.0, 1.0, 0
-    return x, y, z, fl
+        return reflect_glossy(wox, woy, woz, hx, hy, hz)
+    return lambert_sample_dir(u1, u2)

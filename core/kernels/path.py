@@ -23,6 +23,7 @@ from ..bsdfs.dispatch import bsdf_eval, bsdf_flags, bsdf_sample
 from ..bsdfs.params import BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE, BSDF_GLOSSY
 from . import media
 from .bvh import STACK_SIZE, closest_hit
+from .camera import camera_ray
 from .lights import env_lookup, env_sample, hit_light, sample_light, sun_hit
 from ..sampling.qmc import pixel_seed, qmc_sample
 from ..sampling.tags import RANDOMIZE_OWEN, SAMPLER_INDEPENDENT
@@ -46,14 +47,6 @@ VIS_TB = math.tanh(VIS_B * (LMAX - VIS_C))
 # Ray offset against self-intersection: relative to the scene's coordinate magnitude.
 EPS_REL = 1e-5
 
-# Camera parameter vector layout (float64[20]).
-CAM_R = 0  # 9 entries: camera-to-world rotation, row major
-CAM_T = 9  # 3 entries: camera position
-CAM_HALF_W = 12
-CAM_HALF_H = 13
-CAM_OFF_X = 14
-CAM_OFF_Y = 15
-CAM_SIZE = 16
 
 
 @function
@@ -199,7 +192,7 @@ def _lookup_material(m, lam, spec, ior_tab, mat_ra, mat_rb, mat_eta, mat_kappa, 
 
 
 @kernel
-def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, cam,
+def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, cam, filt,
                 bmin, bmax, child, count, axis, v0, e1, e2, tri_mat, tri_emitter,
                 mat_model, mat_p, mat_ra, mat_rb, mat_eta, mat_kappa, mat_ior, ior_tab,
                 mat_emis, mat_emis_scale, mat_emis_two,
@@ -207,13 +200,15 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 light_kind, light_geo, light_spec, light_scale, light_two_sided, light_visible,
                 emit_cdf, emit_prob, emit_tri, emit_light,
                 world_spec, world_scale, world_img, world_dist, world_par, world_row, world_emit,
-                spectral, sampler, n_total, mat_medium, med_tab, med_g, cam_medium):
+                spectral, aov, tri_nrm, spec_alb, sampler, n_total, mat_medium, med_tab, med_g, cam_medium):
     """Add samples s0 .. s1-1 of every pixel of rows y0 .. y1-1 to ``film`` (H, W, 5) float64.
 
     A serial kernel that releases the GIL: the renderer runs blocks of rows on a pool of
     Python threads (compiling a prange kernel takes four times as long, and numba's
     threading layers abort the process on concurrent launches). Rows never overlap, so
     the film does not depend on the number of threads.
+
+    cam: the camera vector and filt the pixel filter's distribution (core/kernels/camera.py).
 
     Materials: mat_model (MAT_* tags) and mat_p (K, 16) rows for core.bsdfs; spectral
     inputs ra/rb (rows of ``spec``, -1: 0 / 1), η (row of ``ior_tab`` or the constant
@@ -226,6 +221,18 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
     equirectangular image world_img (H, W, 3) whose texel rgb weighs the three spectrum rows
     world_row.. (the emission basis), scaled by world_par[2], importance sampled by
     world_dist (see lights.env_*), entry world_emit of the emitter table.
+
+    Shading normals: tri_nrm (T, 9) float32, the three vertex normals of each triangle in
+    leaf order (0 rows: flat shading), interpolated with the hit's barycentrics and turned
+    to the geometric normal's side; the geometric normal still decides ray offsets and
+    which side a direction is on (a direction on different sides of the two normals
+    contributes nothing: no light leaks through shading normals).
+
+    aov: (H, W, 8) float64 sums per sample: 0-2 CIE XYZ of the first non-delta hit's
+    reflectance (ra) under D65 (spec_alb: (S, 3) XYZ of each spectrum row under D65 of
+    Y = 1, precomputed, so the pass carries no colour noise), 3-5 the
+    first hit's shading normal facing the camera, 6 the first hit's distance along the
+    camera ray, 7 the number of samples whose camera ray hit something.
 
     spectral: (H, W, B) float64 sums of the spectral radiance averaged over B equal bins
     of [LMIN, LMAX] (W/(m² sr nm)); pass a (1, 1, 0) array to skip it.
@@ -275,24 +282,21 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     pdf_lam[i] = visible_pdf(lam[i])
                     beta[i] = 1.0
                     rad[i] = 0.0
-                # camera ray
-                sx = ((x + rnd(sampler, key, pseed, s, 1, n_total)) / width * 2.0 - 1.0) * cam[CAM_HALF_W] + cam[CAM_OFF_X]
-                sy = (1.0 - (y + rnd(sampler, key, pseed, s, 2, n_total)) / height * 2.0) * cam[CAM_HALF_H] + cam[CAM_OFF_Y]
-                dx = cam[0] * sx + cam[1] * sy - cam[2]
-                dy = cam[3] * sx + cam[4] * sy - cam[5]
-                dz = cam[6] * sx + cam[7] * sy - cam[8]
-                inv_len = 1.0 / math.sqrt(dx * dx + dy * dy + dz * dz)
-                dx *= inv_len
-                dy *= inv_len
-                dz *= inv_len
-                ox = cam[CAM_T]
-                oy = cam[CAM_T + 1]
-                oz = cam[CAM_T + 2]
-                dim = 3
+                # camera ray: dimensions 1-2 the pixel filter, 3-4 the lens
+                ox, oy, oz, dx, dy, dz = camera_ray(cam, filt, x, y, width, height,
+                                                    rnd(sampler, key, pseed, s, 1, n_total),
+                                                    rnd(sampler, key, pseed, s, 2, n_total),
+                                                    rnd(sampler, key, pseed, s, 3, n_total),
+                                                    rnd(sampler, key, pseed, s, 4, n_total))
+                dim = 5
                 depth = 0
                 prev_pdf = 0.0
                 prev_delta = True  # the camera ray: emitters seen directly get full weight
                 dispersed = False
+                alb_done = False
+                aX = 0.0
+                aY = 0.0
+                aZ = 0.0
                 medium = cam_medium
                 outer = -1
                 t_lo = 0.0  # the ray goes on from here after passing null surfaces
@@ -406,11 +410,40 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     ny /= nlen
                     nz /= nlen
                     cos_i = -(nx * dx + ny * dy + nz * dz)
-                    m = tri_mat[prim]
-                    if mat_model[m] == C.MAT_NULL:  # only bounds a medium: go straight on
-                        medium, outer = media.cross(medium, outer, mat_medium[m], cos_i > 0.0, med_tab, lam, mw)
+                    if mat_model[tri_mat[prim]] == C.MAT_NULL:  # only bounds a medium: go straight on
+                        medium, outer = media.cross(medium, outer, mat_medium[tri_mat[prim]], cos_i > 0.0, med_tab,
+                                                    lam, mw)
                         t_lo = t + eps
                         continue
+                    # shading normal: interpolated, on the geometric normal's side; the geometric
+                    # one where the two disagree about the side the ray comes from
+                    snx = nx
+                    sny = ny
+                    snz = nz
+                    if tri_nrm.shape[0] > 0:
+                        b0 = 1.0 - bu - bv
+                        qx = b0 * tri_nrm[prim, 0] + bu * tri_nrm[prim, 3] + bv * tri_nrm[prim, 6]
+                        qy = b0 * tri_nrm[prim, 1] + bu * tri_nrm[prim, 4] + bv * tri_nrm[prim, 7]
+                        qz = b0 * tri_nrm[prim, 2] + bu * tri_nrm[prim, 5] + bv * tri_nrm[prim, 8]
+                        ql = math.sqrt(qx * qx + qy * qy + qz * qz)
+                        if ql > 0.0:
+                            if qx * nx + qy * ny + qz * nz < 0.0:
+                                ql = -ql
+                            qx /= ql
+                            qy /= ql
+                            qz /= ql
+                            if -(qx * dx + qy * dy + qz * dz) * cos_i > 0.0:
+                                snx = qx
+                                sny = qy
+                                snz = qz
+                    if depth == 0:
+                        fs = 1.0 if snx * dx + sny * dy + snz * dz <= 0.0 else -1.0
+                        aov[y, x, 3] += fs * snx
+                        aov[y, x, 4] += fs * sny
+                        aov[y, x, 5] += fs * snz
+                        aov[y, x, 6] += t
+                        aov[y, x, 7] += 1.0
+                    m = tri_mat[prim]
                     # emission: both sides (Blender's Emission shader) or the front side only
                     if mat_emis[m] >= 0 and (cos_i > 0.0 or (cos_i < 0.0 and mat_emis_two[m] != 0)):
                         w = 1.0
@@ -440,20 +473,26 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     pm = mat_p[m]
                     _lookup_material(m, lam, spec, ior_tab, mat_ra, mat_rb, mat_eta, mat_kappa, mat_ior,
                                      ra, rb, eta, kappa)
-                    # local frame around the geometric normal (Duff et al. 2017)
-                    sgn = 1.0 if nz >= 0.0 else -1.0
-                    aa = -1.0 / (sgn + nz)
-                    bb = nx * ny * aa
-                    tx = 1.0 + sgn * nx * nx * aa
+                    # local frame around the shading normal (Duff et al. 2017)
+                    sgn = 1.0 if snz >= 0.0 else -1.0
+                    aa = -1.0 / (sgn + snz)
+                    bb = snx * sny * aa
+                    tx = 1.0 + sgn * snx * snx * aa
                     ty = sgn * bb
-                    tz = -sgn * nx
+                    tz = -sgn * snx
                     cx = bb
-                    cy = sgn + ny * ny * aa
-                    cz = -ny
+                    cy = sgn + sny * sny * aa
+                    cz = -sny
                     wox = -(dx * tx + dy * ty + dz * tz)
                     woy = -(dx * cx + dy * cy + dz * cz)
-                    woz = cos_i
+                    woz = -(dx * snx + dy * sny + dz * snz)
                     flags_m = bsdf_flags(model, pm)
+                    if not alb_done and (flags_m & (BSDF_DIFFUSE | BSDF_GLOSSY)) != 0:
+                        alb_done = True
+                        if mat_ra[m] >= 0:
+                            aX = mix_w * spec_alb[mat_ra[m], 0]
+                            aY = mix_w * spec_alb[mat_ra[m], 1]
+                            aZ = mix_w * spec_alb[mat_ra[m], 2]
                     # next-event estimation (skipped for purely specular materials)
                     if n_emit > 0 and (flags_m & (BSDF_DIFFUSE | BSDF_GLOSSY)) != 0:
                         ue = rnd(sampler, key, pseed, s, dim, n_total)
@@ -490,8 +529,8 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                             for i in range(NW):
                                 le[i] = (cr * lookup(spec, world_row, lam[i]) + cg * lookup(spec, world_row + 1, lam[i])
                                          + cb * lookup(spec, world_row + 2, lam[i]))
-                        cos_n = nx * wx + ny * wy + nz * wz
-                        if fac > 0.0 and lpdf > 0.0 and cos_n != 0.0:
+                        cos_n = snx * wx + sny * wy + snz * wz
+                        if fac > 0.0 and lpdf > 0.0 and cos_n * (nx * wx + ny * wy + nz * wz) > 0.0:
                             wix = wx * tx + wy * ty + wz * tz
                             wiy = wx * cx + wy * cy + wz * cz
                             pb = bsdf_eval(model, pm, ra, rb, eta, kappa, wox, woy, woz, wix, wiy, cos_n, fv)
@@ -536,16 +575,19 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     prev_delta = (flags & BSDF_DELTA) != 0
                     prev_pdf = pdf
                     # back to world space
-                    dx = wix * tx + wiy * cx + wiz * nx
-                    dy = wix * ty + wiy * cy + wiz * ny
-                    dz = wix * tz + wiy * cz + wiz * nz
-                    side = 1.0 if wiz > 0.0 else -1.0
+                    dx = wix * tx + wiy * cx + wiz * snx
+                    dy = wix * ty + wiy * cy + wiz * sny
+                    dz = wix * tz + wiy * cz + wiz * snz
+                    cgeo = nx * dx + ny * dy + nz * dz
+                    if cgeo * wiz <= 0.0:
+                        break  # below the geometric surface on the shading normal's side: a leak
+                    side = 1.0 if cgeo > 0.0 else -1.0
                     ox = px + side * eps * nx
                     oy = py + side * eps * ny
                     oz = pz + side * eps * nz
                     t_lo = 0.0
-                    if has_media and (wiz > 0.0) != (woz > 0.0):  # transmitted: into or out of the interior
-                        medium, outer = media.cross(medium, outer, mat_medium[tri_mat[prim]], wiz < 0.0, med_tab,
+                    if has_media and (cgeo > 0.0) != (cos_i > 0.0):  # transmitted: into or out of the interior
+                        medium, outer = media.cross(medium, outer, mat_medium[tri_mat[prim]], cgeo < 0.0, med_tab,
                                                     lam, mw)
                     depth += 1
                     if q <= 0.0:
@@ -577,3 +619,6 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 film[y, x, 2] += Z
                 film[y, x, 3] += 1.0
                 film[y, x, 4] += Y * Y
+                aov[y, x, 0] += aX
+                aov[y, x, 1] += aY
+                aov[y, x, 2] += aZ

@@ -49,14 +49,19 @@ _EXTRAPOLATE = ("constant", "zero")
 # --------------------------------------------------------------------------- helpers
 
 
-def _wavelengths(wavelengths_nm, what: str = "wavelengths_nm") -> np.ndarray:
+def _positive(values, what: str, unit: str) -> np.ndarray:
+    """``values`` as a float64 array, all finite and > 0 (``ValueError`` naming ``what`` otherwise)."""
     try:
-        wl = np.asarray(wavelengths_nm, dtype=np.float64)
+        a = np.asarray(values, dtype=np.float64)
     except (TypeError, ValueError):
-        raise ValueError(f"{what} must be numbers, got {wavelengths_nm!r}") from None
-    if not np.all(np.isfinite(wl)) or np.any(wl <= 0.0):
-        raise ValueError(f"{what} must be finite and positive (nanometres)")
-    return wl
+        raise ValueError(f"{what} must be numbers, got {values!r}") from None
+    if not np.all(np.isfinite(a)) or np.any(a <= 0.0):
+        raise ValueError(f"{what} must be finite and positive ({unit})")
+    return a
+
+
+def _wavelengths(wavelengths_nm, what: str = "wavelengths_nm") -> np.ndarray:
+    return _positive(wavelengths_nm, what, "nanometres")
 
 
 def _interp(table_wl: np.ndarray, table_values: np.ndarray, wl: np.ndarray, extrapolate: str) -> np.ndarray:
@@ -84,6 +89,20 @@ def _frozen(a: np.ndarray) -> np.ndarray:
     return a
 
 
+def _resolve(kind: str, name, names, aliases: dict) -> str:
+    """The shipped name among ``names`` for ``name`` (matched by ``_squash``), or an alias's
+    target; ``ValueError`` naming the choices otherwise."""
+    if isinstance(name, str):
+        key = _squash(name)
+        by_key = {_squash(n): n for n in names}
+        if key in by_key:
+            return by_key[key]
+        alias = aliases.get(key)
+        if alias in names:
+            return alias
+    raise _unknown(kind, name, names)
+
+
 # --------------------------------------------------------------------------- blackbody
 
 
@@ -96,12 +115,7 @@ def blackbody(temperature_K, wavelengths_nm) -> np.ndarray:
     scalar temperature with an array of wavelengths, or ``T[:, None]`` with
     ``wl[None, :]`` for a table.
     """
-    try:
-        t = np.asarray(temperature_K, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(f"temperature_K must be numbers, got {temperature_K!r}") from None
-    if not np.all(np.isfinite(t)) or np.any(t <= 0.0):
-        raise ValueError("temperature_K must be finite and positive (kelvin)")
+    t = _positive(temperature_K, "temperature_K", "kelvin")
     lam = _wavelengths(wavelengths_nm) * 1e-9  # metres
     with np.errstate(over="ignore"):  # exp overflows to inf far in the Wien tail: B -> 0
         per_metre = C1L / lam**5 / np.expm1(C2 / (lam * t))
@@ -232,16 +246,7 @@ def metal_names() -> list[str]:
 
 def resolve_metal_name(name: str) -> str:
     """Shipped name for ``name``: the symbol in any case, or ``"gold"``, ``"silver"``, ``"copper"``, ``"aluminium"``."""
-    names = metal_names()
-    if isinstance(name, str):
-        key = _squash(name)
-        by_key = {_squash(n): n for n in names}
-        if key in by_key:
-            return by_key[key]
-        alias = _METAL_ALIASES.get(key)
-        if alias in names:
-            return alias
-    raise _unknown("metal", name, names)
+    return _resolve("metal", name, metal_names(), _METAL_ALIASES)
 
 
 def metal_ior(name: str, wavelengths_nm, extrapolate: str = "constant") -> tuple[np.ndarray, np.ndarray]:
@@ -273,16 +278,7 @@ def glass_names() -> list[str]:
 
 def resolve_glass_name(name: str) -> str:
     """Shipped name for ``name`` (case-, space-, hyphen- and underscore-insensitive; ``"BK7"`` → ``"N-BK7"``)."""
-    names = glass_names()
-    if isinstance(name, str):
-        key = _squash(name)
-        by_key = {_squash(n): n for n in names}
-        if key in by_key:
-            return by_key[key]
-        alias = _GLASS_ALIASES.get(key)
-        if alias in names:
-            return alias
-    raise _unknown("glass", name, names)
+    return _resolve("glass", name, glass_names(), _GLASS_ALIASES)
 
 
 def glass_info(name: str) -> dict:

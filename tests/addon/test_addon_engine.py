@@ -260,3 +260,16 @@ def test_white_balance_to_the_light(ext, bpy, tmp_path):
     assert r > 1.5 * bl  # 2700 K is orange
     r, g, bl = means["LIGHT"]
     assert r / g == pytest.approx(1.0, abs=0.03) and bl / g == pytest.approx(1.0, abs=0.03)
+
+
+def test_time_limit_stops_the_engine_early(ext, bpy, tmp_path):
+    if "stop_reason" not in getattr(ext.core.RenderStats, "__dataclass_fields__", {}):
+        pytest.skip("this core does not stop at settings.time_limit")
+    b = ext.build
+    engine_scene(b, spp=1 << 20)
+    b.scene.spectral_gi.time_limit = 1.0
+    render_still(bpy, tmp_path / "timed.exr")
+    message = ext.render_job.STATE.message
+    done = int(message.split()[0])
+    assert 1 <= done < 1 << 20 and "time limit" in message, message
+    assert read_multilayer(tmp_path / "timed.exr")["Luminance.Y"].mean() > 0.0

@@ -1,0 +1,119 @@
+"""Camera rays: perspective or orthographic projection, thin lens, pixel filter.
+
+The camera vector (float64[CAM_SIZE], packed by renderer.camera_vector): camera-to-
+world rotation (row major), position, the half extents of the image on the plane
+z = −1 (perspective: tangents) or in metres (orthographic), Blender's lens shift, the
+projection tag, the lens radius (0: pinhole), the focus distance and the filter width.
+
+Pixel filter: each sample's position in the pixel is drawn from the filter (separable:
+x and y independently), so every sample has weight 1 and the image is the filtered
+radiance (Cycles does the same with a tabulated inverse cdf). The filter's 1D
+distribution (core.sampling.distrib layout) is built once by :func:`filter_table`.
+
+Thin lens (Cycles' model): the pinhole ray through the pixel fixes the point in focus
+at depth ``focus_distance``; the ray starts at a uniform point of the lens disc of
+radius lens_mm / (2 f-number) (concentric map) and passes through that point.
+"""
+import math
+
+import numpy as np
+
+from .. import constants as C
+from ..jit import function, inline
+from ..sampling.distrib import build_distribution_1d, sample_distribution_1d
+from ..sampling.warps import sample_disk_concentric
+
+CAM_R = 0  # 9 entries: camera-to-world rotation, row major
+CAM_T = 9  # 3 entries: camera position
+CAM_HALF_W = 12
+CAM_HALF_H = 13
+CAM_OFF_X = 14
+CAM_OFF_Y = 15
+CAM_PROJ = 16
+CAM_LENS_R = 17
+CAM_FOCUS = 18
+CAM_FILTER_W = 19
+CAM_SIZE = 20
+
+FILTER_CELLS = 1024
+
+# Blackman–Harris window, 4 terms (F. J. Harris, Proc. IEEE 66(1), 1978), over the filter width
+_BH = (0.35875, 0.48829, 0.14128, 0.01168)
+
+
+def filter_function(kind, width, x):
+    """The (unnormalised) filter at offsets ``x`` (pixels) from the pixel centre; 0 outside ±width/2.
+
+    box: 1; Blackman–Harris: the 4-term window spanning the width (Cycles' default filter,
+    width 1.5 px); Gaussian: exp(−x²/(2σ²)) with σ = width/6, truncated at ±3σ = ±width/2.
+    """
+    x = np.asarray(x, dtype=np.float64)
+    inside = np.abs(x) <= 0.5 * width
+    if kind == C.FILTER_BOX:
+        f = np.ones_like(x)
+    elif kind == C.FILTER_BLACKMAN_HARRIS:
+        a = 2.0 * np.pi * (x / width + 0.5)
+        f = _BH[0] - _BH[1] * np.cos(a) + _BH[2] * np.cos(2 * a) - _BH[3] * np.cos(3 * a)
+    elif kind == C.FILTER_GAUSSIAN:
+        s = width / 6.0
+        f = np.exp(-0.5 * (x / s) ** 2)
+    else:
+        raise ValueError(f"unknown pixel filter {kind}")
+    return np.where(inside, np.maximum(f, 0.0), 0.0)
+
+
+def filter_table(kind, width):
+    """1D piecewise-constant distribution of the filter over [−width/2, width/2] (cell means)."""
+    n = FILTER_CELLS
+    sub = 8
+    x = (np.arange(n * sub) + 0.5) / (n * sub) - 0.5
+    f = filter_function(kind, width, x * width).reshape(n, sub).mean(axis=1)
+    return build_distribution_1d(f)
+
+
+@inline
+def filter_offset(filt, u, width):
+    """Offset (pixels) from the pixel centre drawn from the filter with the uniform u."""
+    x, _, _ = sample_distribution_1d(filt, u)
+    return (x - 0.5) * width
+
+
+@function
+def camera_ray(cam, filt, x, y, width, height, u1, u2, u3, u4):
+    """World-space ray (ox, oy, oz, dx, dy, dz) through pixel (x, y) with samples u1..u4
+    (u1, u2: the filter; u3, u4: the lens)."""
+    fw = cam[CAM_FILTER_W]
+    fx = x + 0.5 + filter_offset(filt, u1, fw)
+    fy = y + 0.5 + filter_offset(filt, u2, fw)
+    sx = (fx / width * 2.0 - 1.0) * cam[CAM_HALF_W] + cam[CAM_OFF_X]
+    sy = (1.0 - fy / height * 2.0) * cam[CAM_HALF_H] + cam[CAM_OFF_Y]
+    if cam[CAM_PROJ] == C.CAM_ORTHOGRAPHIC:
+        px = sx
+        py = sy
+        cx = 0.0
+        cy = 0.0
+    else:
+        px = 0.0
+        py = 0.0
+        cx = sx
+        cy = sy
+    cz = -1.0
+    lr = cam[CAM_LENS_R]
+    if lr > 0.0:
+        fd = cam[CAM_FOCUS]
+        fpx = px + cx * fd
+        fpy = py + cy * fd
+        lx, ly, _ = sample_disk_concentric(u3, u4)
+        px += lr * lx
+        py += lr * ly
+        cx = fpx - px
+        cy = fpy - py
+        cz = -fd
+    dx = cam[0] * cx + cam[1] * cy + cam[2] * cz
+    dy = cam[3] * cx + cam[4] * cy + cam[5] * cz
+    dz = cam[6] * cx + cam[7] * cy + cam[8] * cz
+    inv = 1.0 / math.sqrt(dx * dx + dy * dy + dz * dz)
+    ox = cam[CAM_T] + cam[0] * px + cam[1] * py
+    oy = cam[CAM_T + 1] + cam[3] * px + cam[4] * py
+    oz = cam[CAM_T + 2] + cam[6] * px + cam[7] * py
+    return ox, oy, oz, dx * inv, dy * inv, dz * inv

@@ -64,7 +64,9 @@ def rnd(sampler, key, pseed, index, dim, n):
     hash of (pixel seed, index, dimension), as pbrt's samplers do)."""
     if sampler == SAMPLER_INDEPENDENT:
         return uniform(key, dim)
-    return qmc_dimension(sampler, index, dim, pseed, n)
+    # np.int64(...): a literal dimension (0 ... 4 at the camera) would otherwise compile
+    # one specialisation of qmc_dimension per literal value
+    return qmc_dimension(sampler, np.int64(index), np.int64(dim), pseed, np.int64(n))
 
 
 @inline

@@ -11,10 +11,13 @@ HELPER_TYPES = frozenset({"EMPTY", "CAMERA", "ARMATURE", "LATTICE", "LIGHT_PROBE
 
 
 def local_triangles(obj):
-    """(positions float32 (N, 3), triangles int32 (T, 3), material slot int32 (T,)) of an evaluated object.
+    """(positions float32 (N, 3), triangles int32 (T, 3), material slot int32 (T,), normals) of an
+    evaluated object; normals is None when every face is flat-shaded.
 
-    Uses ``to_mesh()`` (modifiers applied) and always frees it with ``to_mesh_clear()``.
-    Returns None if the object yields no mesh.
+    With smooth faces the triangles are unwelded (three vertices each) so that each corner
+    carries Blender's corner normal (smooth faces, sharp edges, custom normals) and flat
+    faces their face normal. Uses ``to_mesh()`` (modifiers applied) and always frees it
+    with ``to_mesh_clear()``. Returns None if the object yields no mesh.
     """
     try:
         me = obj.to_mesh()
@@ -34,7 +37,23 @@ def local_triangles(obj):
         if n_t:
             me.loop_triangles.foreach_get("vertices", tri)
             me.loop_triangles.foreach_get("material_index", slot)
-        return co.reshape(-1, 3), tri.reshape(-1, 3), slot
+        co = co.reshape(-1, 3)
+        tri = tri.reshape(-1, 3)
+        smooth = np.zeros(n_t, dtype=bool)
+        if n_t:
+            me.loop_triangles.foreach_get("use_smooth", smooth)
+        if not smooth.any() or not hasattr(me, "corner_normals"):
+            return co, tri, slot, None
+        loops = np.empty(n_t * 3, dtype=np.int32)
+        me.loop_triangles.foreach_get("loops", loops)
+        corner = np.empty(len(me.corner_normals) * 3, dtype=np.float32)
+        me.corner_normals.foreach_get("vector", corner)
+        face = np.empty(n_t * 3, dtype=np.float32)
+        me.loop_triangles.foreach_get("normal", face)
+        normals = corner.reshape(-1, 3)[loops].reshape(n_t, 3, 3)
+        normals[~smooth] = face.reshape(-1, 3)[~smooth][:, None, :]
+        return (np.ascontiguousarray(co[tri].reshape(-1, 3)), np.arange(n_t * 3, dtype=np.int32).reshape(-1, 3),
+                slot, np.ascontiguousarray(normals.reshape(-1, 3)))
     finally:
         obj.to_mesh_clear()
 
@@ -68,12 +87,27 @@ def export_mesh(ctx, obj, matrix, name, cache=None):
             return None
         if key is not None:
             cache[key] = local
-    co, tri, slot = local
+    co, tri, slot, normals = local
     if tri.shape[0] == 0:
         return None
     mats = slot_materials(obj)
     lut = np.array([export_material(ctx, m) for m in mats] or [export_material(ctx, None)], dtype=np.int32)
     tri_mat = lut[np.clip(slot, 0, lut.size - 1)]
+    world_normals = None
+    if normals is not None:
+        # normals transform by the inverse transpose of the object's linear part
+        lin = np.asarray(matrix, dtype=np.float64)[:3, :3]
+        try:
+            nm = np.linalg.inv(lin).T
+        except np.linalg.LinAlgError:
+            nm = None
+        if nm is not None:
+            n = normals.astype(np.float64) @ nm.T
+            length = np.linalg.norm(n, axis=1, keepdims=True)
+            ok = length[:, 0] > 0
+            n[ok] /= length[ok]
+            n[~ok] = 0.0
+            world_normals = np.ascontiguousarray(n, dtype=np.float32)
     return Mesh(name=name, positions=points_to_world_metres(matrix, co, ctx.scale_length),
                 indices=np.ascontiguousarray(tri, dtype=np.int32),
-                material=np.ascontiguousarray(tri_mat, dtype=np.int32))
+                material=np.ascontiguousarray(tri_mat, dtype=np.int32), normals=world_normals)

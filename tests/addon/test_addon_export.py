@@ -303,3 +303,34 @@ def test_collection_instances_are_exported_once_per_instance(ext, bpy):
     xs = sorted(float(m.positions[:, 0].min()) for m in scene.meshes)
     assert xs == pytest.approx([0.0, 10.0, 20.0])
     assert all("Box" in m.name for m in scene.meshes)
+
+
+# ----------------------------------------------------------------------------- shading normals
+
+def test_smooth_shading_exports_corner_normals(ext, bpy):
+    """A smooth-shaded, non-uniformly scaled icosphere exports unit world normals close to the
+    radial direction of the ellipsoid's gradient; a flat cube exports no normals."""
+    b = ext.build
+    minimal(b)
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=3, radius=1.0, location=(0.5, 0.0, 1.0))
+    sphere = bpy.context.active_object
+    sphere.name = "Ball"
+    sphere.scale = (2.0, 1.0, 1.0)
+    bpy.ops.object.shade_smooth()
+    b.cube("Box", location=(3, 0, 0))
+    scene = b.export(ext).scene
+    ball = next(m for m in scene.meshes if m.name.startswith("Ball"))
+    box = next(m for m in scene.meshes if m.name.startswith("Box"))
+    assert box.normals is None
+    assert ball.normals is not None and ball.normals.shape == ball.positions.shape
+    n = ball.normals.astype(np.float64)
+    np.testing.assert_allclose(np.linalg.norm(n, axis=1), 1.0, atol=1e-5)
+    # world normal of the ellipsoid x²/4 + y² + z² = 1 around (0.5, 0, 1): ∇ = (x/4, y, z)
+    p = ball.positions.astype(np.float64) - [0.5, 0.0, 1.0]
+    g = p * [0.25, 1.0, 1.0]
+    g /= np.linalg.norm(g, axis=1, keepdims=True)
+    cos = np.sum(n * g, axis=1)
+    assert cos.min() > 0.97  # the mesh's averaged corner normals vs the smooth surface's
+    assert np.median(cos) > 0.995
+    # three vertices per triangle (unwelded corners) and the same surface as the flat export
+    assert ball.indices.shape[0] * 3 == ball.positions.shape[0]

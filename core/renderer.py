@@ -501,7 +501,8 @@ def _rows(prep, film, y0, y1, s0, s1):
                 prep.light_visible, prep.emit_cdf, prep.emit_prob, prep.emit_tri, prep.emit_light,
                 int(prep.world_spec), float(prep.world_scale), prep.world_img, prep.world_dist, prep.world_par,
                 prep.world_row, prep.world_emit, film.spectral, film.aov, prep.tri_nrm, prep.spec_alb, int(st.sampler),
-                int(st.spp), prep.mat_medium, prep.med_tab, prep.med_g, int(prep.cam_medium))
+                int(st.spp), prep.mat_medium, prep.med_tab, prep.med_g, int(prep.cam_medium),
+                int(bool(st.next_event)))
 
 
 def thread_count(threads=None):

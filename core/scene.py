@@ -227,6 +227,7 @@ class RenderSettings:
     filter_width: float = 1.5  # pixels
     time_limit: float = 0.0  # seconds; 0 = none
     noise_target: float = 0.0  # stop when the relative standard error of luminance is below; 0 = none
+    next_event: bool = True  # False: the naive reference integrator (BSDF sampling only, no NEE, no MIS)
 
 
 @dataclass
@@ -488,6 +489,8 @@ def validate(scene: Scene) -> Scene:
     _check_number("settings.filter_width", s.filter_width, lo=0.01, hi=64.0)
     _check_number("settings.time_limit", s.time_limit, lo=0.0)
     _check_number("settings.noise_target", s.noise_target, lo=0.0, hi=1e6)
+    if not isinstance(s.next_event, (bool, np.bool_)):
+        _fail("settings.next_event", f"expected true or false, got {s.next_event!r}")
     return scene
 
 

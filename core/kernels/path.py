@@ -202,7 +202,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 light_kind, light_geo, light_spec, light_scale, light_two_sided, light_visible,
                 emit_cdf, emit_prob, emit_tri, emit_light,
                 world_spec, world_scale, world_img, world_dist, world_par, world_row, world_emit,
-                spectral, aov, tri_nrm, spec_alb, sampler, n_total, mat_medium, med_tab, med_g, cam_medium):
+                spectral, aov, tri_nrm, spec_alb, sampler, n_total, mat_medium, med_tab, med_g, cam_medium, nee):
     """Add samples s0 .. s1-1 of every pixel of rows y0 .. y1-1 to ``film`` (H, W, 5) float64.
 
     A serial kernel that releases the GIL: the renderer runs blocks of rows on a pool of
@@ -255,6 +255,9 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
     bin_width = (LMAX - LMIN) / max(n_bins, 1)
     n_emit = emit_prob.shape[0]
     n_lights = light_kind.shape[0]
+    # nee = 0: the naive reference integrator (BSDF and phase sampling only, every emitter hit
+    # counted with weight 1), against which tests check the NEE + MIS estimator
+    do_nee = nee != 0 and n_emit > 0
     eps = EPS_REL * scene_scale
     has_media = med_tab.shape[0] > 0
     for y in range(y0, y1):
@@ -329,7 +332,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                         if fac <= 0.0:
                             continue
                         w = 1.0
-                        if not prev_delta:
+                        if not prev_delta and do_nee:
                             w = power_heuristic(prev_pdf, emit_prob[n_emit - n_lights + li] * lpdf)
                         media.arrival(medium, mw, tl - t_lo)
                         for i in range(NW):
@@ -344,7 +347,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                             py = oy + t_end * dy
                             pz = oz + t_end * dz
                             g = med_g[medium]
-                            if n_emit > 0:
+                            if do_nee:
                                 ei = media.pick(emit_cdf, n_emit, rnd(sampler, key, pseed, s, dim, n_total))
                                 wx, wy, wz, dist, lpdf, fac = _emitter_sample(
                                     ei, rnd(sampler, key, pseed, s, dim + 1, n_total),
@@ -383,7 +386,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                             ti, tj, wpdf = env_lookup(world_dist, world_par, world_img.shape[1], world_img.shape[0],
                                                       dx, dy, dz)
                             w = 1.0
-                            if not prev_delta and world_emit >= 0:
+                            if not prev_delta and do_nee and world_emit >= 0:
                                 w = power_heuristic(prev_pdf, emit_prob[world_emit] * wpdf)
                             cr = w * world_par[2] * world_img[tj, ti, 0]
                             cg = w * world_par[2] * world_img[tj, ti, 1]
@@ -449,7 +452,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     # emission: both sides (Blender's Emission shader) or the front side only
                     if mat_emis[m] >= 0 and (cos_i > 0.0 or (cos_i < 0.0 and mat_emis_two[m] != 0)):
                         w = 1.0
-                        if not prev_delta:
+                        if not prev_delta and do_nee:
                             pl = emit_prob[tri_emitter[prim]] * t * t / (area * abs(cos_i))
                             w = power_heuristic(prev_pdf, pl)
                         for i in range(NW):
@@ -496,7 +499,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                             aY = mix_w * spec_alb[mat_ra[m], 1]
                             aZ = mix_w * spec_alb[mat_ra[m], 2]
                     # next-event estimation (skipped for purely specular materials)
-                    if n_emit > 0 and (flags_m & (BSDF_DIFFUSE | BSDF_GLOSSY)) != 0:
+                    if do_nee and (flags_m & (BSDF_DIFFUSE | BSDF_GLOSSY)) != 0:
                         ue = rnd(sampler, key, pseed, s, dim, n_total)
                         lo = 0
                         hi = n_emit - 1

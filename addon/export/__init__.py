@@ -9,6 +9,7 @@ from dataclasses import dataclass
 from .context import ExportCancelled, ExportContext, ExportError
 from .convert import matrix_to_array
 from .light import export_light
+from .material import export_world_volume
 from .mesh import GEOMETRY_TYPES, HELPER_TYPES, export_mesh
 from .world import export_world
 
@@ -87,10 +88,11 @@ def export_scene(depsgraph, scene=None, should_cancel=None):
     ctx.check_cancel()
     world = scene.world.evaluated_get(depsgraph) if scene.world is not None else None
     core_world = export_world(ctx, world)
+    export_world_volume(ctx, world)
     if not ctx.materials:
         ctx.default_material()
     result = Scene(meshes=meshes, spectra=ctx.spectra, materials=ctx.materials, ior_tables=ctx.ior_tables,
-                   lights=lights, camera=camera,
+                   media=ctx.media, lights=lights, camera=camera,
                    world=core_world, settings=render_settings(scene),
                    metadata={"source": "Blender " + bpy.app.version_string, "scene": scene.name,
                              "blend_file": bpy.data.filepath,

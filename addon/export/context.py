@@ -32,6 +32,8 @@ class ExportContext:
         self._ior_index = {}
         self.materials = []
         self._material_index = {}
+        self.media = []  # core Medium records (homogeneous volumes), see :meth:`medium`
+        self._medium_index = {}
         self._spectrum_index = {}
         self.unsupported = {}  # category -> list of names
         self.notes = []  # substitutions made (linked inputs, ignored settings)
@@ -90,6 +92,37 @@ class ExportContext:
         if key not in self._spectrum_index:
             self._spectrum_index[key] = self.spectra.add(name, build(), constants.SPECTRUM_UNBOUNDED)
         return self._spectrum_index[key]
+
+    def _medium_shape(self, name, rgb):
+        """(spectrum index, density) with density · shape = the coefficient colour ``rgb`` (1/m):
+        -1 (flat 1) for a grey, else the bounded spectrum of rgb / max(rgb)."""
+        rgb = tuple(max(float(c), 0.0) for c in rgb)
+        density = max(rgb)
+        if not density > 0.0:
+            return -1, 0.0
+        if max(rgb) - min(rgb) <= 1e-9 * density:
+            return -1, density
+        return self.reflectance(name, tuple(c / density for c in rgb)), density
+
+    def medium(self, name, absorption_rgb, scattering_rgb, anisotropy=0.0):
+        """Index into ``media`` of the homogeneous medium with these coefficients, added once.
+
+        ``absorption_rgb`` and ``scattering_rgb`` are σa and σs as linear Rec.709 colours in
+        1/m (any non-negative values); each becomes a density (its largest channel) times a
+        bounded spectrum (the colour over that density), or a flat spectrum for a grey.
+        """
+        from ...core import Medium
+
+        sa = tuple(max(float(c), 0.0) for c in rgb_of(absorption_rgb))
+        ss = tuple(max(float(c), 0.0) for c in rgb_of(scattering_rgb))
+        key = (sa, ss, float(anisotropy))
+        if key not in self._medium_index:
+            a_idx, a_den = self._medium_shape(f"{name} absorption", sa)
+            s_idx, s_den = self._medium_shape(f"{name} scattering", ss)
+            self._medium_index[key] = len(self.media)
+            self.media.append(Medium(name=name, absorption=a_idx, absorption_density=a_den, scattering=s_idx,
+                                     scattering_density=s_den, anisotropy=float(anisotropy)))
+        return self._medium_index[key]
 
     def ior_table(self, name, values):
         """Index into ``ior_tables`` of the curve ``name`` (N_LAMBDA values on the 1 nm grid), added once."""

@@ -22,6 +22,10 @@ Node → model (α = roughness², as Cycles):
   the same without reflection (noted); Transparent → a dielectric of IOR 1;
   Emission → emission; Mix / Add Shader → MAT_MIX / MAT_ADD.
 
+The Material Output's Volume socket becomes a homogeneous core Medium inside the mesh
+(Material.interior; see "the Volume socket" below); a Volume without a Surface gives a
+MAT_NULL surface that only bounds it.
+
 ``material.spectral_gi.model`` (the material panel) overrides the BSDF with one of the
 core's models and its parameters; the emission of the node tree is kept.
 """
@@ -442,6 +446,126 @@ def _emission_fields(ctx, name, emissions):
     return ctx.emission(f"{name} emission", rgb), float(emission_luminance(rgb, strength))
 
 
+# ----------------------------------------------------------------------------- the Volume socket
+#
+# The Material Output's Volume socket becomes one homogeneous core Medium filling the
+# mesh (Material.interior). Coefficients follow Cycles (intern/cycles/kernel/svm/closure.h,
+# svm_node_closure_volume and svm_node_principled_volume), with d = Density and c = Color:
+#
+# * Volume Absorption: σa = d·(1 − c), no scattering.
+# * Volume Scatter: σs = d·c; Cycles adds only σs to the extinction, so σa = 0.
+# * Principled Volume: σs = d·c and σa = d·max(1 − c, 0)·max(1 − √a, 0) with a = Absorption
+#   Color (Cycles takes the square root of the absorption colour); emission and blackbody
+#   are not exported (noted), nor are volume-grid attributes (meshes have none).
+# * Volume Coefficients: σa and σs are its Absorption / Scatter Coefficients.
+# * Add Shader sums the coefficients; Mix Shader weights them by (1 − fac) and fac (a
+#   linear mix of the closures, as Cycles does, not a stochastic choice).
+#
+# The phase function is Henyey–Greenstein; other phases are noted and rendered as HG with
+# the node's Anisotropy (0 for Rayleigh, whose mean cosine is 0). Components with
+# different anisotropies are combined into one HG whose g is their σs-weighted mean (the
+# same mean cosine), noted. Blender's densities are per Blender unit: σ[1/m] = σ[1/BU] /
+# scale_length. A colour becomes a spectrum as ctx.medium does: density × a bounded spectrum.
+
+VOLUME_NODES = ("VOLUME_ABSORPTION", "VOLUME_SCATTER", "PRINCIPLED_VOLUME", "VOLUME_COEFFICIENTS")
+G_LIMIT = 0.999  # |g| < 1 for core.validate
+
+
+def _scale(rgb, k):
+    return tuple(k * c for c in rgb)
+
+
+def _volume_terms(ctx, owner, node, weight=1.0, depth=0):
+    """The weighted volume closures of ``node``: [(σa rgb, σs rgb, g), ...] per Blender unit."""
+    if node is None or weight <= 0.0:
+        return []
+    kind = node.type
+    label = f"{owner}/{node.name}"
+    if kind in ("MIX_SHADER", "ADD_SHADER"):
+        if depth >= 2 * MIX_DEPTH:
+            ctx.skip("shader mixes nested too deeply", label)
+            return []
+        a, b = shader_inputs(node)
+        if kind == "ADD_SHADER":
+            wa = wb = 1.0
+        else:
+            fac = constant_input(ctx, owner, node, "Factor", 0.5)
+            wa = mix_first_weight(0.5 if fac is None else fac)
+            wb = 1.0 - wa
+        return (_volume_terms(ctx, owner, a, weight * wa, depth + 1)
+                + _volume_terms(ctx, owner, b, weight * wb, depth + 1))
+    if kind not in VOLUME_NODES:
+        ctx.skip("volume shader nodes", label)
+        return []
+
+    def col(name):
+        return tuple(max(c, 0.0) for c in input_value(ctx, owner, node, (name,), "colour"))
+
+    def val(name, default=0.0):
+        v = input_value(ctx, owner, node, (name,), "value")
+        return default if v is None else v
+
+    if kind == "VOLUME_ABSORPTION":
+        d = max(val("Density"), 0.0) * weight
+        return [(_scale(tuple(max(1.0 - c, 0.0) for c in col("Color")), d), BLACK, 0.0)]
+    g = _phase_anisotropy(ctx, owner, node, val("Anisotropy"))
+    if kind == "VOLUME_SCATTER":
+        d = max(val("Density"), 0.0) * weight
+        return [(BLACK, _scale(col("Color"), d), g)]
+    if kind == "VOLUME_COEFFICIENTS":
+        if max(col("Emission Coefficients")) > 0.0:
+            ctx.skip("volume emission", f"{label}: emission coefficients (ignored)")
+        return [(_scale(col("Absorption Coefficients"), weight), _scale(col("Scatter Coefficients"), weight), g)]
+    # PRINCIPLED_VOLUME
+    d = max(val("Density"), 0.0) * weight
+    c = col("Color")
+    root_a = tuple(c ** 0.5 for c in col("Absorption Color"))
+    sigma_a = tuple(d * max(1.0 - ci, 0.0) * max(1.0 - ai, 0.0) for ci, ai in zip(c, root_a))
+    if val("Emission Strength") > 0.0:
+        ctx.skip("volume emission", f"{label}: emission (ignored)")
+    if val("Blackbody Intensity") > 0.0:
+        ctx.skip("volume emission", f"{label}: blackbody emission (ignored)")
+    return [(sigma_a, _scale(c, d), g)]
+
+
+def _phase_anisotropy(ctx, owner, node, anisotropy):
+    phase = getattr(node, "phase", "HENYEY_GREENSTEIN")
+    g = anisotropy
+    if phase != "HENYEY_GREENSTEIN":
+        g = 0.0 if phase == "RAYLEIGH" else anisotropy
+        ctx.note(f"{owner}: '{node.name}' phase {phase.replace('_', '-').title()} rendered as "
+                 f"Henyey–Greenstein g = {g:g}")
+    return g
+
+
+def export_volume(ctx, owner, node):
+    """Index into ``ctx.media`` of the medium of the Volume shader ``node``, or -1 (none or empty)."""
+    terms = _volume_terms(ctx, owner, node)
+    if not terms:
+        return -1
+    sa = tuple(sum(t[0][k] for t in terms) for k in range(3))
+    ss = tuple(sum(t[1][k] for t in terms) for k in range(3))
+    weights = [sum(t[1]) for t in terms]
+    gs = [t[2] for t, w in zip(terms, weights) if w > 0.0]
+    g = sum(t[2] * w for t, w in zip(terms, weights)) / sum(weights) if gs else 0.0
+    if gs and max(gs) - min(gs) > 1e-6:
+        ctx.note(f"{owner}: volume anisotropies {', '.join(f'{x:g}' for x in gs)} combined into one "
+                 f"Henyey–Greenstein g = {g:.4g} (their scattering-weighted mean)")
+    if abs(g) >= G_LIMIT:
+        ctx.note(f"{owner}: volume anisotropy {g:g} clamped to ±{G_LIMIT:g}")
+        g = max(min(g, G_LIMIT), -G_LIMIT)
+    per_metre = 1.0 / ctx.scale_length  # densities are per Blender unit
+    return ctx.medium(f"{owner} volume", _scale(sa, per_metre), _scale(ss, per_metre), g)
+
+
+def export_world_volume(ctx, world):
+    """The world's Volume socket: the core's world has no medium, so a linked one is listed as not exported."""
+    tree = getattr(world, "node_tree", None) if world is not None else None
+    output = active_output(tree, "ShaderNodeOutputWorld")
+    if output is not None and surface_node(output, "Volume") is not None:
+        ctx.skip("world volume (the world has no medium)", world.name)
+
+
 # ----------------------------------------------------------------------------- the material
 
 
@@ -461,12 +585,20 @@ def build_material(ctx, mat):
             return _finish(ctx, name, override_tree(ctx, mat, settings, None), [])
         return Material(name=name, reflectance=_refl(ctx, name, rgb_of(mat.diffuse_color)))
     node = surface_node(output)
+    volume = surface_node(output, "Volume")
+    interior = export_volume(ctx, name, volume) if volume is not None else -1
     if node is None and not override:
+        if volume is not None:  # a volume-only object: no surface, it only bounds its medium
+            from ...core import constants
+            return Material(name=name, model=constants.MAT_NULL, interior=interior)
         return Material(name=name)  # an unconnected output renders black
     if override:
-        return _finish(ctx, name, override_tree(ctx, mat, settings, node), emission_terms(ctx, name, node))
-    bsdf, emissions = _shader(ctx, name, node)
-    return _finish(ctx, name, bsdf, emissions)
+        root = _finish(ctx, name, override_tree(ctx, mat, settings, node), emission_terms(ctx, name, node))
+    else:
+        bsdf, emissions = _shader(ctx, name, node)
+        root = _finish(ctx, name, bsdf, emissions)
+    root.interior = interior  # e.g. a glass holding a coloured liquid
+    return root
 
 
 def emission_terms(ctx, owner, node, depth=0):

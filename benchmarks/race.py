@@ -37,6 +37,7 @@ import cornell_vs_cycles as cvc  # noqa: E402
 import peers  # noqa: E402
 
 REC709_Y = np.array([0.2126, 0.7152, 0.0722])
+SAMPLER = None  # --sampler: this renderer's sampler (None: the scene's, independent)
 
 
 def _ours(scene_bpy, spp, bounces, threads, size, time_limit=0.0):
@@ -51,6 +52,8 @@ def _ours(scene_bpy, spp, bounces, threads, size, time_limit=0.0):
     sc.settings.spp = spp
     sc.settings.max_depth = bounces
     sc.settings.time_limit = float(time_limit)
+    if SAMPLER is not None:
+        sc.settings.sampler = SAMPLER
     film, stats = core.render(sc, threads=threads)
     return time.perf_counter() - t0, film, stats
 
@@ -160,7 +163,14 @@ def main(argv=None):
     ap.add_argument("--rmse-size", type=int, default=128)
     ap.add_argument("--overhead-spp", type=int, default=32)
     ap.add_argument("--skip", default="", help="comma-separated: speed, rmse, overhead")
+    ap.add_argument("--sampler", choices=("independent", "halton", "hammersley", "stratified"), default=None,
+                    help="this renderer's sampler (default: the exported scene's)")
     args = ap.parse_args(argv)
+    global SAMPLER
+    if args.sampler:
+        from spectral_gi.core import constants as C
+        SAMPLER = {"independent": C.SAMPLER_INDEPENDENT, "halton": C.SAMPLER_HALTON,
+                   "hammersley": C.SAMPLER_HAMMERSLEY, "stratified": C.SAMPLER_STRATIFIED}[args.sampler]
     skip = {s.strip() for s in args.skip.split(",") if s.strip()}
 
     scene_bpy = cvc.build_scene(args.size)

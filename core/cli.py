@@ -90,7 +90,7 @@ def _parser():
     r.add_argument("--max-depth", type=_non_negative_int,
                    help="maximum number of bounces, as Cycles' Max Bounces (0: direct light only; default 64)")
     r.add_argument("--seed", type=_non_negative_int, help="random seed")
-    r.add_argument("--sampler", choices=("independent", "halton", "hammersley"),
+    r.add_argument("--sampler", choices=("independent", "halton", "hammersley", "stratified"),
                    help="sample generator: independent random numbers, or Owen-scrambled Halton or "
                         "Hammersley points per pixel (default: the scene's, independent)")
     r.add_argument("--time-limit", type=float, help="stop after this many seconds of rendering (default: the scene's; "
@@ -193,7 +193,8 @@ def _render(args):
         st.seed = args.seed
     if args.sampler:
         st.sampler = {"independent": C.SAMPLER_INDEPENDENT, "halton": C.SAMPLER_HALTON,
-                      "hammersley": C.SAMPLER_HAMMERSLEY}[args.sampler]
+                      "hammersley": C.SAMPLER_HAMMERSLEY,
+                      "stratified": C.SAMPLER_STRATIFIED}[args.sampler]
     if args.time_limit is not None:
         st.time_limit = args.time_limit
     if args.noise_target is not None:

@@ -70,6 +70,7 @@ FILTER_GAUSSIAN = 2
 SAMPLER_INDEPENDENT = 0
 SAMPLER_HALTON = 1
 SAMPLER_HAMMERSLEY = 2
+SAMPLER_STRATIFIED = 3  # Sobol (0,2) pixel positions (digitally shifted per pixel), random numbers elsewhere
 
 # Sensor fit (as Blender's Camera.sensor_fit).
 FIT_AUTO = 0

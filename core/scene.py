@@ -481,7 +481,7 @@ def validate(scene: Scene) -> Scene:
     _check_number("settings.rr_depth", s.rr_depth, lo=1, hi=1024, integer=True)
     _check_number("settings.seed", s.seed, lo=0, hi=2**32 - 1, integer=True)
     _check_number("settings.sampler", s.sampler, integer=True)
-    if s.sampler not in (C.SAMPLER_INDEPENDENT, C.SAMPLER_HALTON, C.SAMPLER_HAMMERSLEY):
+    if s.sampler not in (C.SAMPLER_INDEPENDENT, C.SAMPLER_HALTON, C.SAMPLER_HAMMERSLEY, C.SAMPLER_STRATIFIED):
         _fail("settings.sampler", f"unknown sampler {s.sampler} (0 independent, 1 Halton, 2 Hammersley)")
     _check_number("settings.filter", s.filter, integer=True)
     if s.filter not in (C.FILTER_BOX, C.FILTER_BLACKMAN_HARRIS, C.FILTER_GAUSSIAN):

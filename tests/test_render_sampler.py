@@ -69,7 +69,7 @@ def test_qmc_render_is_the_same_for_one_and_two_threads(sampler):
 
 def test_sampler_is_validated():
     sc = furnace_scene()
-    for bad in (3, -1, 1.5, "halton"):
+    for bad in (4, -1, 1.5, "halton"):
         sc.settings.sampler = bad
         with pytest.raises(SceneError, match="settings.sampler"):
             validate(sc)

@@ -17,7 +17,8 @@ __all__ = ["ExportCancelled", "ExportError", "ExportResult", "export_scene", "re
 
 DEFAULTS = {"samples": 64, "max_bounces": 16, "seed": 0, "use_animated_seed": False, "sampler": "INDEPENDENT",
             "pixel_filter": "BLACKMAN_HARRIS", "filter_width": 1.5, "time_limit": 0.0, "noise_target": 0.0}
-SAMPLER_TAGS = {"INDEPENDENT": "SAMPLER_INDEPENDENT", "HALTON": "SAMPLER_HALTON", "HAMMERSLEY": "SAMPLER_HAMMERSLEY"}
+SAMPLER_TAGS = {"INDEPENDENT": "SAMPLER_INDEPENDENT", "HALTON": "SAMPLER_HALTON", "HAMMERSLEY": "SAMPLER_HAMMERSLEY",
+                "STRATIFIED": "SAMPLER_STRATIFIED"}
 FILTER_TAGS = {"BOX": "FILTER_BOX", "BLACKMAN_HARRIS": "FILTER_BLACKMAN_HARRIS", "GAUSSIAN": "FILTER_GAUSSIAN"}
 
 

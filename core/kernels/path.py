@@ -27,7 +27,7 @@ from .camera import camera_ray
 from .lights import env_lookup, env_sample, hit_light, sample_light, sun_hit
 from ..sampling.qmc import pixel_seed, qmc_sample
 from ..sampling.tags import RANDOMIZE_OWEN, SAMPLER_INDEPENDENT
-from .rng import path_key, uniform
+from .rng import path_key, shift_32, sobol_02, uniform
 
 NW = C.N_WAVELENGTHS
 LMIN = C.LAMBDA_MIN
@@ -63,6 +63,13 @@ def rnd(sampler, key, pseed, index, dim, n):
     else the low-discrepancy point (whose dimensions past the prime table fall back to a
     hash of (pixel seed, index, dimension), as pbrt's samplers do)."""
     if sampler == SAMPLER_INDEPENDENT:
+        return uniform(key, dim)
+    if sampler == C.SAMPLER_STRATIFIED:
+        # the pixel-filter pair (dimensions 1, 2) from a digitally shifted Sobol (0, 2)
+        # sequence: stratified positions in the pixel (what makes edges of bright emitters
+        # converge), independent random numbers for everything else
+        if dim == 1 or dim == 2:
+            return sobol_02(index, dim - 1, shift_32(pseed, dim))
         return uniform(key, dim)
     # np.int64(...): a literal dimension (0 ... 4 at the camera) would otherwise compile
     # one specialisation of qmc_dimension per literal value

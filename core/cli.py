@@ -92,7 +92,7 @@ def _parser():
     r.add_argument("--seed", type=_non_negative_int, help="random seed")
     r.add_argument("--sampler", choices=("independent", "halton", "hammersley", "stratified"),
                    help="sample generator: independent random numbers, or Owen-scrambled Halton or "
-                        "Hammersley points per pixel (default: the scene's, independent)")
+                        "Hammersley points per pixel, or stratified pixel positions (default: the scene's, stratified)")
     r.add_argument("--time-limit", type=float, help="stop after this many seconds of rendering (default: the scene's; "
                                                     "0: none)")
     r.add_argument("--noise-target", type=float,

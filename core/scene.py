@@ -222,7 +222,7 @@ class RenderSettings:
     max_depth: int = 64  # maximum bounces, as Cycles' Max Bounces (0: direct light only)
     rr_depth: int = 3  # Russian roulette starts after this many bounces
     seed: int = 0
-    sampler: int = C.SAMPLER_INDEPENDENT  # SAMPLER_* (independent, Halton, Hammersley)
+    sampler: int = C.SAMPLER_STRATIFIED  # SAMPLER_* (independent, Halton, Hammersley, stratified: the default)
     filter: int = C.FILTER_BLACKMAN_HARRIS  # FILTER_* (pixel filter, Cycles' default)
     filter_width: float = 1.5  # pixels
     time_limit: float = 0.0  # seconds; 0 = none

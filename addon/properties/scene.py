@@ -54,7 +54,7 @@ class SpectralGISceneSettings(bpy.types.PropertyGroup):
         default=0, min=0, max=1024,
     )
     sampler: EnumProperty(
-        name="Sampler", items=SAMPLERS, default="INDEPENDENT",
+        name="Sampler", items=SAMPLERS, default="STRATIFIED",
         description="How the random numbers of the samples are drawn (no unit)",
     )
     pixel_filter: EnumProperty(

@@ -28,6 +28,9 @@ import time
 
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import cornell_vs_cycles as cvc  # noqa: E402  (one definition of Cycles' benchmark settings)
+
 SIZE = (320, 240)
 GRID = [  # (label, Cycles label: None when Cycles has the model, key)
     ("Lambert", None, "lambert"),
@@ -221,31 +224,9 @@ def render_ours(bpy, spp, bounces, threads):
 
 
 def render_cycles(bpy, scene, spp, bounces, threads, path):
-    scene.render.engine = "CYCLES"
-    c = scene.cycles
-    c.device = "CPU"
-    c.samples = spp
-    c.use_adaptive_sampling = False
-    c.use_denoising = False
-    c.sample_clamp_direct = 0.0
-    c.sample_clamp_indirect = 0.0
-    c.max_bounces = c.diffuse_bounces = c.glossy_bounces = c.transmission_bounces = bounces
-    c.transparent_max_bounces = max(8, bounces)
-    c.caustics_reflective = c.caustics_refractive = True
-    c.seed = 0
-    scene.render.threads_mode = "FIXED"
-    scene.render.threads = threads
-    scene.render.image_settings.file_format = "OPEN_EXR"
-    scene.render.image_settings.color_depth = "32"
-    scene.render.filepath = path
-    scene.view_settings.view_transform = "Standard"
-    t0 = time.perf_counter()
-    bpy.ops.render.render(write_still=True)
-    t = time.perf_counter() - t0
-    from spectral_gi.core import read_exr
-
-    ch, _ = read_exr(path)
-    return np.stack([ch["R"], ch["G"], ch["B"]], axis=-1).astype(np.float64), t
+    """Cycles at the Cornell benchmark's matched settings: (linear Rec.709 image, seconds)."""
+    t = cvc.render_cycles(scene, spp, bounces, threads, path)
+    return cvc.read_rgb(path), t
 
 
 # ----------------------------------------------------------------------------- labelled images

@@ -39,6 +39,7 @@ import numpy as np
 from .. import constants as C
 from ..jit import function, inline
 from .bvh import closest_hit, occluded
+from .spectrum import lookup
 
 NW = C.N_WAVELENGTHS
 LMIN = C.LAMBDA_MIN
@@ -55,18 +56,6 @@ MW_ROWS = 4
 
 G_ISOTROPIC = 1e-3  # |g| below this is rendered as isotropic (the inverse cdf loses precision)
 MAX_CROSSINGS = 256  # null surfaces a shadow ray may pass
-
-
-@inline
-def _interp(table, row, lam):
-    x = (lam - LMIN) / LSTEP
-    i = int(x)
-    if i < 0:
-        return table[row, 0]
-    if i >= NL - 1:
-        return table[row, NL - 1]
-    f = x - i
-    return table[row, i] * (1.0 - f) + table[row, i + 1] * f
 
 
 @inline
@@ -141,8 +130,8 @@ def load(med_tab, medium, lam, mw):
     """σa, σs of ``medium`` (-1: none) at the path's wavelengths into mw."""
     for i in range(NW):
         if medium >= 0:
-            mw[MW_SA, i] = _interp(med_tab, 2 * medium, lam[i])
-            mw[MW_SS, i] = _interp(med_tab, 2 * medium + 1, lam[i])
+            mw[MW_SA, i] = lookup(med_tab, 2 * medium, lam[i])
+            mw[MW_SS, i] = lookup(med_tab, 2 * medium + 1, lam[i])
         else:
             mw[MW_SA, i] = 0.0
             mw[MW_SS, i] = 0.0
@@ -272,7 +261,7 @@ def shadow(ox, oy, oz, wx, wy, wz, dist, medium, outer, lam, mw, bmin, bmax, chi
         end = dist if prim < 0 else t
         if medium >= 0 and end > t0:
             for i in range(NW):
-                st = _interp(med_tab, 2 * medium, lam[i]) + _interp(med_tab, 2 * medium + 1, lam[i])
+                st = lookup(med_tab, 2 * medium, lam[i]) + lookup(med_tab, 2 * medium + 1, lam[i])
                 mw[MW_TR, i] *= _transmittance(st, end - t0)
         if prim < 0:
             return True

@@ -27,6 +27,7 @@ from .camera import camera_ray
 from .lights import env_lookup, env_sample, hit_light, sample_light, sun_hit
 from ..sampling.qmc import pixel_seed, qmc_sample
 from ..sampling.tags import RANDOMIZE_OWEN, SAMPLER_INDEPENDENT
+from .spectrum import lookup
 from .rng import path_key, shift_32, sobol_02, uniform
 
 NW = C.N_WAVELENGTHS
@@ -87,18 +88,6 @@ def sample_visible(u):
 def visible_pdf(lam):
     c = math.cosh(VIS_B * (lam - VIS_C))
     return VIS_B / ((VIS_TB - VIS_TA) * c * c)
-
-
-@inline
-def lookup(table, row, lam):
-    x = (lam - LMIN) / LSTEP
-    i = int(x)
-    if i < 0:
-        return table[row, 0]
-    if i >= NL - 1:
-        return table[row, NL - 1]
-    f = x - i
-    return table[row, i] * (1.0 - f) + table[row, i + 1] * f
 
 
 @inline
@@ -166,7 +155,7 @@ def _emitter_sample(ei, ua, ub, px, py, pz, lam, le, v0, e1, e2, tri_mat, mat_em
                     world_img, world_dist, world_par, world_row):
     """Emitter ``ei`` sampled from p, as the surface NEE does: (wx, wy, wz, dist, solid-angle
     pdf (inf: delta), fac) and its emitted spectral radiance (or intensity) into ``le``.
-    Used at scattering points in media (core/kernels/media.py)."""
+    Used by the surface NEE and at scattering points in media (core/kernels/media.py)."""
     if emit_tri[ei] >= 0:
         wx, wy, wz, dist, lpdf, fac, l_row, l_scale = _triangle_sample(
             emit_tri[ei], ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale, mat_emis_two)
@@ -508,39 +497,13 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     # next-event estimation (skipped for purely specular materials)
                     if do_nee and (flags_m & (BSDF_DIFFUSE | BSDF_GLOSSY)) != 0:
                         ue = rnd(sampler, key, pseed, s, dim, n_total)
-                        lo = 0
-                        hi = n_emit - 1
-                        while lo < hi:
-                            mid = (lo + hi) // 2
-                            if emit_cdf[mid + 1] <= ue:
-                                lo = mid + 1
-                            else:
-                                hi = mid
-                        ei = lo
-                        ua = rnd(sampler, key, pseed, s, dim + 1, n_total)
-                        ub = rnd(sampler, key, pseed, s, dim + 2, n_total)
-                        if emit_tri[ei] >= 0:
-                            wx, wy, wz, dist, lpdf, fac, l_row, l_scale = _triangle_sample(
-                                emit_tri[ei], ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale,
-                                mat_emis_two)
-                            for i in range(NW):
-                                le[i] = l_scale * lookup(spec, l_row, lam[i])
-                        elif emit_light[ei] >= 0:
-                            li = emit_light[ei]
-                            wx, wy, wz, dist, lpdf, fac = sample_light(light_kind[li], light_geo, li,
-                                                                       light_two_sided[li] != 0, px, py, pz, ua, ub)
-                            for i in range(NW):
-                                le[i] = light_scale[li] * lookup(spec, light_spec[li], lam[i])
-                        else:  # the world image
-                            wx, wy, wz, lpdf, ti, tj = env_sample(world_dist, world_par, ua, ub)
-                            dist = np.inf
-                            fac = 1.0
-                            cr = world_par[2] * world_img[tj, ti, 0]
-                            cg = world_par[2] * world_img[tj, ti, 1]
-                            cb = world_par[2] * world_img[tj, ti, 2]
-                            for i in range(NW):
-                                le[i] = (cr * lookup(spec, world_row, lam[i]) + cg * lookup(spec, world_row + 1, lam[i])
-                                         + cb * lookup(spec, world_row + 2, lam[i]))
+                        ei = media.pick(emit_cdf, n_emit, ue)
+                        wx, wy, wz, dist, lpdf, fac = _emitter_sample(
+                            ei, rnd(sampler, key, pseed, s, dim + 1, n_total), rnd(sampler, key, pseed, s, dim + 2,
+                                                                                   n_total),
+                            px, py, pz, lam, le, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale, mat_emis_two, spec,
+                            light_kind, light_geo, light_spec, light_scale, light_two_sided, emit_tri, emit_light,
+                            world_img, world_dist, world_par, world_row)
                         cos_n = snx * wx + sny * wy + snz * wz
                         if fac > 0.0 and lpdf > 0.0 and cos_n * (nx * wx + ny * wy + nz * wz) > 0.0:
                             wix = wx * tx + wy * ty + wz * tz

@@ -21,6 +21,20 @@ NL = C.N_LAMBDA
 
 
 @inline
+def lookup(table, row, lam):
+    """Row ``row`` of a (rows, N_LAMBDA) table on the 1 nm grid, linearly interpolated at
+    ``lam`` (clamped to the ends): how the path tracer and the media read spectra."""
+    x = (lam - LMIN) / LSTEP
+    i = int(x)
+    if i < 0:
+        return table[row, 0]
+    if i >= NL - 1:
+        return table[row, NL - 1]
+    f = x - i
+    return table[row, i] * (1.0 - f) + table[row, i + 1] * f
+
+
+@inline
 def warped_phase(warp, lam):
     x = (lam - LMIN) / LSTEP
     if x <= 0.0:

@@ -93,6 +93,13 @@ class Prepared:
     med_tab: np.ndarray = None  # float64 (2 M, N_LAMBDA): σa, σs rows (1/m); (0, N_LAMBDA) without media
     med_g: np.ndarray = None  # float64 (M,): Henyey–Greenstein g
     cam_medium: int = -1  # the medium around the camera
+    # image textures (core/textures.py, core/kernels/textures.py)
+    tri_tex: np.ndarray = None  # float32 (T, 10) leaf-order corner UVs + tangent frame; (0, 10) untextured
+    tex_data: np.ndarray = None  # float32 (N,) all texels
+    tex_info: np.ndarray = None  # int64 (K, 6) offset, width, height, channels, interpolation, extension
+    mat_tex: np.ndarray = None  # int32 (K, 3) base colour, roughness, normal texture per material (-1 none)
+    mat_nstr: np.ndarray = None  # float64 (K,) normal-map strength per material
+    tex_row: int = -1  # first of the three reflectance basis rows in ``spec`` (-1: none)
 
 
 def cmf_table(observer="1931"):
@@ -429,6 +436,16 @@ def prepare(scene: Scene) -> Prepared:
     world_row = spec.shape[0]
     if world_basis is not None:
         spec = np.concatenate([spec, world_basis.astype(np.float32)])
+    # image textures: the reflectance basis rows a base colour texel's rgb weighs
+    from . import textures as TX
+
+    tri_tex = TX.triangle_frames(scene, bvh.prims)
+    tex_data, tex_info = TX.pack(scene.textures)
+    mat_tex, mat_nstr = TX.material_tables(scene)
+    tex_row = -1
+    if np.any(mat_tex[:, 0] >= 0):
+        tex_row = spec.shape[0]
+        spec = np.concatenate([spec, TX.reflectance_basis().astype(np.float32)])
     # the albedo AOV's colour: XYZ of every spectrum row under CIE D65 of Y = 1
     dwl, d65 = presets.illuminant("D65")
     d65 = np.interp(moments.grid(), dwl, d65)
@@ -484,7 +501,8 @@ def prepare(scene: Scene) -> Prepared:
                     world_spec, world_scale, world_img, world_dist, world_par, int(world_row), world_emit,
                     camera_vector(scene.camera, scene.settings), filter_distribution(scene.settings),
                     _shading_normals(scene, bvh), spec_alb, scene_scale,
-                    time.perf_counter() - t0, mat_medium, med_tab, med_g, cam_medium)
+                    time.perf_counter() - t0, mat_medium, med_tab, med_g, cam_medium,
+                    tri_tex, tex_data, tex_info, mat_tex, mat_nstr, tex_row)
 
 
 def _rows(prep, film, y0, y1, s0, s1):
@@ -502,7 +520,8 @@ def _rows(prep, film, y0, y1, s0, s1):
                 int(prep.world_spec), float(prep.world_scale), prep.world_img, prep.world_dist, prep.world_par,
                 prep.world_row, prep.world_emit, film.spectral, film.aov, prep.tri_nrm, prep.spec_alb, int(st.sampler),
                 int(st.spp), prep.mat_medium, prep.med_tab, prep.med_g, int(prep.cam_medium),
-                int(bool(st.next_event)))
+                int(bool(st.next_event)), prep.tri_tex, prep.tex_data, prep.tex_info, prep.mat_tex, prep.mat_nstr,
+                int(prep.tex_row))
 
 
 def thread_count(threads=None):

@@ -25,6 +25,7 @@ import numpy as np
 
 from . import constants as C
 from .io.atomic import atomic_path, write_text
+from .textures import Texture
 
 
 class SceneError(ValueError):
@@ -41,6 +42,7 @@ class Mesh:
     material: np.ndarray  # int32 (T,), into Scene.materials
     normals: np.ndarray | None = None  # float32 (N, 3) shading normals, or None (flat)
     uvs: np.ndarray | None = None  # float32 (N, 2), or None
+    corner_uvs: np.ndarray | None = None  # float32 (T*3, 2): UVs per triangle corner (wins over uvs), or None
 
 
 @dataclass
@@ -114,6 +116,11 @@ class Material:
     eta_table: int = -1  # index into Scene.ior_tables for η(λ); -1 = constant ``ior``
     kappa_table: int = -1  # index into Scene.ior_tables for κ(λ); -1 = 0
     interior: int = -1  # index into Scene.media of the medium behind the surface (its back side); -1 = none
+    # image textures (core/textures.py): indices into Scene.textures, -1 = none
+    base_colour_texture: int = -1  # replaces ``reflectance`` (the model's ra), uplifted per texel
+    roughness_texture: int = -1  # one channel: Blender roughness r, GGX α = r² (GGX and plastic models)
+    normal_texture: int = -1  # tangent-space normal map (three channels, OpenGL +Y)
+    normal_strength: float = 1.0  # the Normal Map node's strength
 
 
 @dataclass
@@ -238,6 +245,7 @@ class Scene:
     lights: list[Light] = field(default_factory=list)
     ior_tables: IORTable = field(default_factory=IORTable.empty)
     media: list[Medium] = field(default_factory=list)
+    textures: list[Texture] = field(default_factory=list)  # image textures, core/textures.py
     camera: Camera = field(default_factory=lambda: Camera(np.eye(4)))
     world: World = field(default_factory=World)
     settings: RenderSettings = field(default_factory=RenderSettings)
@@ -411,6 +419,9 @@ def validate(scene: Scene) -> Scene:
             _check_array(f"{nm}.normals", mesh.normals, np.float32, (n_v, 3))
         if mesh.uvs is not None:
             _check_array(f"{nm}.uvs", mesh.uvs, np.float32, (n_v, 2))
+    from . import textures as _textures
+
+    _textures.check(scene, _fail)
 
     for i, li in enumerate(scene.lights):
         nm = f"lights[{i}] ({li.name!r})"
@@ -522,6 +533,15 @@ def _world_record(world, arrays):
     return rec
 
 
+def _texture_records(textures, arrays):
+    recs = []
+    for i, tx in enumerate(textures):
+        arrays[f"textures.{i}.image"] = tx.image
+        recs.append({"name": tx.name, "image": f"textures.{i}.image", "interpolation": tx.interpolation,
+                     "extension": tx.extension, "colour": bool(tx.colour)})
+    return recs
+
+
 def to_dict_and_arrays(scene: Scene):
     """Split a scene into a JSON-able dict and a dict of named arrays."""
     arrays = {"spectra.coeffs": scene.spectra.coeffs, "spectra.kind": scene.spectra.kind,
@@ -529,7 +549,7 @@ def to_dict_and_arrays(scene: Scene):
     meshes = []
     for i, m in enumerate(scene.meshes):
         rec = {"name": m.name}
-        for key in ("positions", "indices", "material", "normals", "uvs"):
+        for key in ("positions", "indices", "material", "normals", "uvs", "corner_uvs"):
             a = getattr(m, key)
             if a is not None:
                 arrays[f"meshes.{i}.{key}"] = a
@@ -545,6 +565,7 @@ def to_dict_and_arrays(scene: Scene):
         "ior_tables": {"names": list(scene.ior_tables.names), "values": "ior_tables.values"},
         "lights": [dataclasses.asdict(li) for li in scene.lights],
         "media": [dataclasses.asdict(md) for md in scene.media],
+        "textures": _texture_records(scene.textures, arrays),
         "meshes": meshes,
         "camera": cam,
         "world": _world_record(scene.world, arrays),
@@ -632,6 +653,7 @@ def load(path) -> Scene:
                 material=arr(m.get("material"), f"meshes[{i}].material"),
                 normals=arr(m.get("normals"), f"meshes[{i}].normals"),
                 uvs=arr(m.get("uvs"), f"meshes[{i}].uvs"),
+                corner_uvs=arr(m.get("corner_uvs"), f"meshes[{i}].corner_uvs"),
             ))
         materials = [record(Material, d, f"materials[{i}]") for i, d in enumerate(doc["materials"])]
         itd = doc.get("ior_tables")
@@ -639,6 +661,12 @@ def load(path) -> Scene:
                                                                  list(itd["names"]))
         lights = [record(Light, d, f"lights[{i}]") for i, d in enumerate(doc["lights"])]
         media = [record(Medium, d, f"media[{i}]") for i, d in enumerate(doc.get("media") or [])]
+        textures = []
+        for i, d in enumerate(doc.get("textures") or []):
+            d = dict(d) if isinstance(d, dict) else d
+            if isinstance(d, dict):
+                d["image"] = arr(d.get("image"), f"textures[{i}].image")
+            textures.append(record(Texture, d, f"textures[{i}]"))
         camd = dict(doc["camera"])
         camd["to_world"] = np.asarray(camd.get("to_world"), dtype=np.float64)
         camera = record(Camera, camd, "camera")
@@ -653,6 +681,6 @@ def load(path) -> Scene:
             raise
         raise SceneError(f"scene file: malformed content in {path.name} ({e})") from None
     scene = Scene(meshes=meshes, spectra=spectra, materials=materials, lights=lights, ior_tables=ior_tables,
-                  media=media, camera=camera, world=world, settings=settings, metadata=dict(doc.get("metadata") or {}),
+                  media=media, textures=textures, camera=camera, world=world, settings=settings, metadata=dict(doc.get("metadata") or {}),
                   version=version)
     return validate(scene)

@@ -20,8 +20,9 @@ import numpy as np
 from .. import constants as C
 from ..jit import function, inline, kernel
 from ..bsdfs.dispatch import bsdf_eval, bsdf_flags, bsdf_sample
-from ..bsdfs.params import BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE, BSDF_GLOSSY
+from ..bsdfs.params import ALPHA_MIN, BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE, BSDF_GLOSSY
 from . import media
+from . import textures as tex
 from .bvh import STACK_SIZE, closest_hit
 from .camera import camera_ray
 from .lights import env_lookup, env_sample, hit_light, sample_light, sun_hit
@@ -198,7 +199,8 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 light_kind, light_geo, light_spec, light_scale, light_two_sided, light_visible,
                 emit_cdf, emit_prob, emit_tri, emit_light,
                 world_spec, world_scale, world_img, world_dist, world_par, world_row, world_emit,
-                spectral, aov, tri_nrm, spec_alb, sampler, n_total, mat_medium, med_tab, med_g, cam_medium, nee):
+                spectral, aov, tri_nrm, spec_alb, sampler, n_total, mat_medium, med_tab, med_g, cam_medium, nee,
+                tri_tex, tex_data, tex_info, mat_tex, mat_nstr, tex_row):
     """Add samples s0 .. s1-1 of every pixel of rows y0 .. y1-1 to ``film`` (H, W, 5) float64.
 
     A serial kernel that releases the GIL: the renderer runs blocks of rows on a pool of
@@ -244,6 +246,13 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
     none); med_tab (2 M, N_LAMBDA) σa, σs rows per medium in 1/m, (0, N_LAMBDA) when the
     scene has neither media nor null surfaces (then nothing of this runs); med_g (M,) HG
     anisotropy; cam_medium the camera's medium.
+
+    Image textures (core/textures.py, lookups in core/kernels/textures.py): tri_tex (T, 10)
+    float32 per leaf triangle, its corners' UVs, tangent ∂p/∂u and UV handedness ((0, 10):
+    no material has a texture, and none of this runs); tex_data / tex_info the texels of all
+    textures and their table; mat_tex (K, 3) each material's base colour, roughness and
+    normal texture (-1 none), mat_nstr (K,) its normal strength; tex_row the first of the
+    three reflectance basis rows of ``spec`` a base colour texel's rgb weighs.
     """
     height = film.shape[0]
     width = film.shape[1]
@@ -256,7 +265,9 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
     do_nee = nee != 0 and n_emit > 0
     eps = EPS_REL * scene_scale
     has_media = med_tab.shape[0] > 0
+    has_tex = tri_tex.shape[0] > 0
     for y in range(y0, y1):
+        pm_tex = np.empty(mat_p.shape[1])
         stack = np.empty(STACK_SIZE, np.int32)
         lam = np.empty(NW)
         pdf_lam = np.empty(NW)
@@ -474,6 +485,38 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     pm = mat_p[m]
                     _lookup_material(m, lam, spec, ior_tab, mat_ra, mat_rb, mat_eta, mat_kappa, mat_ior,
                                      ra, rb, eta, kappa)
+                    tex_base = False
+                    cr = 0.0
+                    cg = 0.0
+                    cb = 0.0
+                    if has_tex:
+                        t_base = mat_tex[m, 0]
+                        t_rough = mat_tex[m, 1]
+                        t_nrm = mat_tex[m, 2]
+                        if t_base >= 0 or t_rough >= 0 or t_nrm >= 0:
+                            tu, tv = tex.hit_uv(tri_tex, prim, bu, bv)
+                            if t_base >= 0:  # ρ(λ) = r B_r + g B_g + b B_b (Mallett–Yuksel)
+                                tex_base = True
+                                cr, cg, cb = tex.sample(tex_data, tex_info, t_base, tu, tv)
+                                for i in range(NW):
+                                    ra[i] = (cr * lookup(spec, tex_row, lam[i]) + cg * lookup(spec, tex_row + 1, lam[i])
+                                             + cb * lookup(spec, tex_row + 2, lam[i]))
+                            if t_rough >= 0:  # GGX α = roughness² on both axes (slots 1, 2)
+                                rr, _g, _b = tex.sample(tex_data, tex_info, t_rough, tu, tv)
+                                for k in range(pm_tex.shape[0]):
+                                    pm_tex[k] = pm[k]
+                                pm_tex[1] = max(rr * rr, ALPHA_MIN)
+                                pm_tex[2] = pm_tex[1]
+                                pm = pm_tex
+                            if t_nrm >= 0:
+                                nr_, ng_, nb_ = tex.sample(tex_data, tex_info, t_nrm, tu, tv)
+                                qx, qy, qz = tex.perturb_normal(tri_tex, prim, snx, sny, snz, nr_, ng_, nb_,
+                                                                mat_nstr[m])
+                                # kept only on the side the ray comes from (as the interpolated normal)
+                                if -(qx * dx + qy * dy + qz * dz) * cos_i > 0.0:
+                                    snx = qx
+                                    sny = qy
+                                    snz = qz
                     # local frame around the shading normal (Duff et al. 2017)
                     sgn = 1.0 if snz >= 0.0 else -1.0
                     aa = -1.0 / (sgn + snz)
@@ -490,7 +533,14 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     flags_m = bsdf_flags(model, pm)
                     if not alb_done and (flags_m & (BSDF_DIFFUSE | BSDF_GLOSSY)) != 0:
                         alb_done = True
-                        if mat_ra[m] >= 0:
+                        if tex_base:
+                            aX = mix_w * (cr * spec_alb[tex_row, 0] + cg * spec_alb[tex_row + 1, 0]
+                                          + cb * spec_alb[tex_row + 2, 0])
+                            aY = mix_w * (cr * spec_alb[tex_row, 1] + cg * spec_alb[tex_row + 1, 1]
+                                          + cb * spec_alb[tex_row + 2, 1])
+                            aZ = mix_w * (cr * spec_alb[tex_row, 2] + cg * spec_alb[tex_row + 1, 2]
+                                          + cb * spec_alb[tex_row + 2, 2])
+                        elif mat_ra[m] >= 0:
                             aX = mix_w * spec_alb[mat_ra[m], 0]
                             aY = mix_w * spec_alb[mat_ra[m], 1]
                             aZ = mix_w * spec_alb[mat_ra[m], 2]

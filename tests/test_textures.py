@@ -9,7 +9,6 @@ from helpers import flat_emission, flat_reflectance, look_at
 from spectral_gi.core import constants as C
 from spectral_gi.core import renderer as R
 from spectral_gi.core.bsdfs.params import ggx_conductor_params, lambert_params, plastic_params
-from spectral_gi.core.film import develop
 from spectral_gi.core.kernels import textures as KT
 from spectral_gi.core.scene import (Camera, Light, Material, Mesh, RenderSettings, Scene, SceneError, SpectrumTable,
                                     World, load, save, validate)
@@ -140,7 +139,7 @@ def test_constant_texture_equals_the_constant_material():
     a = plane_scene([Material("tex", params=lambert_params(), base_colour_texture=0)], [Texture("c", img)], sp,
                     world=world, spp=64)
     b = plane_scene([Material("const", params=lambert_params(), reflectance=s)], [], sp, world=world, spp=64)
-    da, db = a and R.render(a)[0].develop(), R.render(b)[0].develop()
+    da, db = R.render(a)[0].develop(), R.render(b)[0].develop()
     xa, xb = da.XYZ.reshape(-1, 3).mean(0), db.XYZ.reshape(-1, 3).mean(0)
     se = np.sqrt(da.variance.mean() / da.luminance.size) / C.K_M
     np.testing.assert_allclose(xa, xb, rtol=0.01, atol=5 * se)

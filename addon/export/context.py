@@ -34,6 +34,8 @@ class ExportContext:
         self._material_index = {}
         self.media = []  # core Medium records (homogeneous volumes), see :meth:`medium`
         self._medium_index = {}
+        self.textures = []  # core Texture records (image textures), see material.image_texture
+        self.texture_index = {}  # (image, usage, interpolation, extension) -> (index or -1, mean)
         self._spectrum_index = {}
         self.unsupported = {}  # category -> list of names
         self.notes = []  # substitutions made (linked inputs, ignored settings)

@@ -26,12 +26,20 @@ The Material Output's Volume socket becomes a homogeneous core Medium inside the
 (Material.interior; see "the Volume socket" below); a Volume without a Surface gives a
 MAT_NULL surface that only bounds it.
 
+Image textures (Image Texture nodes on the active render UV map) feeding the Principled BSDF's
+Base Color and Roughness, the Diffuse BSDF's Color, and a tangent-space Normal Map node feeding
+their Normal become core textures (core/textures.py): base colour on the plastic, diffuse and
+glass leaves (a metal uses the image's mean colour, noted), roughness on the GGX leaves, normal
+maps on every leaf. An image that cannot be loaded is listed in the warning with the constant
+used instead.
+
 ``material.spectral_gi.model`` (the material panel) overrides the BSDF with one of the
 core's models and its parameters; the emission of the node tree is kept.
 """
-from .convert import (combine_emission, glossy_alpha, is_smooth, mix_first_weight, principled_alpha, rgb_of,
-                      specular_level_ior)
-from .nodes import active_output, constant_input, ignored_links, input_value, shader_inputs, surface_node
+from .convert import (SMOOTH_ALPHA, combine_emission, glossy_alpha, is_smooth, mix_first_weight, principled_alpha,
+                      rgb_of, specular_level_ior)
+from .nodes import (active_output, constant_input, ignored_links, image_node, image_pixels, input_value,
+                    normal_map_node, shader_inputs, surface_node)
 
 SUPPORTED_SURFACES = ("BSDF_PRINCIPLED", "BSDF_DIFFUSE", "BSDF_GLOSSY", "BSDF_METALLIC", "BSDF_GLASS",
                       "BSDF_REFRACTION", "BSDF_TRANSPARENT", "EMISSION", "MIX_SHADER", "ADD_SHADER")
@@ -229,8 +237,148 @@ def _transparent(ctx, name, rgb=WHITE):
                  reflectance=_refl(ctx, name, rgb), specular=_refl(ctx, "black", BLACK), ior=1.0)
 
 
-# ----------------------------------------------------------------------------- shader nodes
+# ----------------------------------------------------------------------------- image textures
+#
+# An Image Texture node's pixels become a core Texture (linear, rows top-down): byte images
+# in the sRGB colour space are decoded, Non-Color / linear ones kept, float images are
+# linear already (as for the world's environment image). Roughness uses the image's Rec.709
+# luminance (Blender's colour → value conversion), normal maps its rgb.
 
+TEXTURE_INTERPOLATION = {"Closest": "closest", "Linear": "linear", "Cubic": "linear", "Smart": "linear"}
+TEXTURE_EXTENSION = {"REPEAT": "repeat", "EXTEND": "extend", "CLIP": "clip", "MIRROR": "repeat"}
+LUMA_709 = (0.2126, 0.7152, 0.0722)
+
+
+def _image_linear_rgb(ctx, owner, img):
+    """float32 (H, W, 3) linear values of bpy image ``img``, or None when it has no pixels."""
+    import numpy as np
+
+    from ...core import sRGB_decode
+    from .world import LINEAR_SPACES, SRGB_SPACES
+
+    rgba = image_pixels(img)
+    if rgba is None:
+        return None
+    rgb = rgba[..., :3]
+    space = img.colorspace_settings.name
+    if not img.is_float and space in SRGB_SPACES:
+        rgb = np.asarray(sRGB_decode(rgb), dtype=np.float32)
+    elif space not in LINEAR_SPACES and space not in SRGB_SPACES:
+        ctx.note(f"{owner}: image {img.name!r} in colour space {space!r} read as linear Rec.709")
+    bad = ~np.isfinite(rgb)
+    if bad.any():
+        ctx.note(f"{owner}: {int(bad.sum())} non-finite texels of {img.name!r} set to 0")
+        rgb = np.where(bad, np.float32(0.0), rgb)
+    return np.ascontiguousarray(rgb, dtype=np.float32)
+
+
+def image_texture(ctx, owner, tex_node, usage):
+    """(index into ctx.textures, mean) of Image Texture node ``tex_node`` used as ``usage``
+    ("colour", "roughness" or "normal"); mean is the image's mean rgb (a float for roughness).
+    (-1, None) when the image cannot be read (the caller substitutes a constant and lists it)."""
+    import numpy as np
+
+    from ...core import Texture
+
+    img = tex_node.image
+    if img is None:
+        return -1, None
+    interp = TEXTURE_INTERPOLATION.get(getattr(tex_node, "interpolation", "Linear"), "linear")
+    ext = TEXTURE_EXTENSION.get(getattr(tex_node, "extension", "REPEAT"), "repeat")
+    key = (img.name_full, usage, interp, ext)
+    if key not in ctx.texture_index:
+        rgb = _image_linear_rgb(ctx, owner, img)
+        if rgb is None:
+            ctx.texture_index[key] = (-1, None)
+        else:
+            if usage == "roughness":
+                data = np.ascontiguousarray((rgb @ np.asarray(LUMA_709, np.float32))[..., None], np.float32)
+                mean = float(np.clip(data, 0.0, 1.0).mean())
+            else:
+                data = rgb
+                mean = tuple(float(x) for x in np.clip(rgb, 0.0, 1.0).reshape(-1, 3).mean(0))
+            ctx.textures.append(Texture(name=f"{img.name} ({usage})", image=data, interpolation=interp,
+                                        extension=ext, colour=usage == "colour"))
+            ctx.texture_index[key] = (len(ctx.textures) - 1, mean)
+    index, mean = ctx.texture_index[key]
+    if index >= 0:
+        if getattr(tex_node, "interpolation", "Linear") in ("Cubic", "Smart"):
+            ctx.note(f"{owner}: '{tex_node.name}' {tex_node.interpolation} interpolation rendered as linear")
+        if getattr(tex_node, "extension", "REPEAT") == "MIRROR":
+            ctx.note(f"{owner}: '{tex_node.name}' mirror extension rendered as repeat")
+        if getattr(tex_node, "projection", "FLAT") != "FLAT":
+            ctx.note(f"{owner}: '{tex_node.name}' {tex_node.projection} projection rendered as flat (UV)")
+        vec = tex_node.inputs.get("Vector")
+        if vec is not None and vec.is_linked:
+            src = vec.links[0].from_node
+            if not (src.type == "TEX_COORD" and vec.links[0].from_socket.name == "UV") and src.type != "UVMAP":
+                ctx.note(f"{owner}: '{tex_node.name}' vector from {src.name!r} ignored (the active render "
+                         f"UV map used)")
+    return index, mean
+
+
+def texture_input(ctx, owner, node, name, usage):
+    """(texture index or -1, constant or None) for input ``name`` of ``node``.
+
+    Fed by an Image Texture: its index and the image's mean (a constant for models without
+    texture support); if the image cannot be loaded, -1 and the socket's own value, listed in
+    the warning. Not fed by an image: (-1, None), the caller reads the input as usual."""
+    tex_node = image_node(node, name)
+    if tex_node is None:
+        return -1, None
+    index, mean = image_texture(ctx, owner, tex_node, usage)
+    if index >= 0:
+        return index, mean
+    value = node.inputs[name].default_value
+    value = float(value) if usage == "roughness" else rgb_of(value)
+    shown = f"{value:g}" if usage == "roughness" else "(" + ", ".join(f"{c:.3g}" for c in value) + ")"
+    what = tex_node.image.name if tex_node.image is not None else "no image"
+    ctx.skip("image textures that cannot be loaded", f"{owner}/{tex_node.name} ({what}): used {name} {shown}")
+    return -1, value
+
+
+def normal_input(ctx, owner, node):
+    """(texture index or -1, strength) of a tangent-space Normal Map node fed by an Image Texture
+    on the Normal input of ``node``; anything else there is left to ``ignored_links``."""
+    nmap = normal_map_node(node)
+    if nmap is None:
+        return -1, 1.0
+    label = f"{owner}/{nmap.name}"
+    if getattr(nmap, "space", "TANGENT") != "TANGENT":
+        ctx.skip("normal maps other than tangent space", f"{label} ({nmap.space})")
+        return -1, 1.0
+    tex_node = image_node(nmap, "Color")
+    if tex_node is None:
+        return -1, 1.0
+    if getattr(nmap, "uv_map", ""):
+        ctx.note(f"{owner}: '{nmap.name}' UV map {nmap.uv_map!r}: the active render UV map used")
+    index, _ = image_texture(ctx, owner, tex_node, "normal")
+    if index < 0:
+        what = tex_node.image.name if tex_node.image is not None else "no image"
+        ctx.skip("image textures that cannot be loaded", f"{owner}/{tex_node.name} ({what}): no normal map")
+        return -1, 1.0
+    strength = constant_input(ctx, owner, nmap, "Strength", 1.0)
+    return index, max(float(1.0 if strength is None else strength), 0.0)
+
+
+def textured_leaf(leaf, base=-1, rough=-1, normal=-1, strength=1.0):
+    """``leaf`` with the textures its model supports (base colour on its ``ra``, GGX roughness, normal map)."""
+    from ...core import constants as C
+
+    if leaf is None or leaf[0] != "leaf":
+        return leaf
+    m = leaf[1]
+    if base >= 0 and m.model in (C.MAT_LAMBERT, C.MAT_PLASTIC, C.MAT_DIELECTRIC, C.MAT_GGX_DIELECTRIC):
+        m.base_colour_texture = base
+    if rough >= 0 and m.model in (C.MAT_GGX_CONDUCTOR, C.MAT_GGX_DIELECTRIC, C.MAT_PLASTIC):
+        m.roughness_texture = rough
+    if normal >= 0 and m.model not in (C.MAT_MIX, C.MAT_ADD, C.MAT_NULL):
+        m.normal_texture = normal
+        m.normal_strength = float(strength)
+    return leaf
+
+
+# ----------------------------------------------------------------------------- shader nodes
 
 def _principled(ctx, owner, node):
     from ...core import constants, lambert_params, plastic_params
@@ -245,11 +393,21 @@ def _principled(ctx, owner, node):
         v = input_value(ctx, owner, node, (name,), "colour")
         return default if v is None else v
 
-    base = col("Base Color", (0.8, 0.8, 0.8))
+    base_tex, base = texture_input(ctx, owner, node, "Base Color", "colour")
+    if base is None:
+        base = col("Base Color", (0.8, 0.8, 0.8))
     metallic = min(max(val("Metallic"), 0.0), 1.0)
     transmission = min(max(val("Transmission Weight"), 0.0), 1.0)
     alpha = min(max(val("Alpha", 1.0), 0.0), 1.0)
-    ax, ay = principled_alpha(val("Roughness", 0.5), val("Anisotropic"))
+    rough_tex, roughness = texture_input(ctx, owner, node, "Roughness", "roughness")
+    if roughness is None:
+        roughness = val("Roughness", 0.5)
+    ax, ay = principled_alpha(roughness, val("Anisotropic"))
+    if rough_tex >= 0:
+        if val("Anisotropic") > 0.0:
+            ctx.note(f"{owner}: '{node.name}' roughness texture rendered isotropic (anisotropy ignored)")
+        ax = ay = max(ax, ay, 2.0 * SMOOTH_ALPHA)  # a GGX model, whose α the texture sets per point
+    normal_tex, normal_strength = normal_input(ctx, owner, node)
     ior = _ior(ctx, owner, val("IOR", 1.5))
     spec_tint = col("Specular Tint")
     level = val("Specular IOR Level", 0.5)
@@ -257,7 +415,8 @@ def _principled(ctx, owner, node):
         ctx.note(f"{owner}: anisotropic rotation ignored (the tangent frame is the renderer's own)")
     if getattr(node, "distribution", "GGX") not in GGX_DISTRIBUTIONS:
         ctx.note(f"{owner}: '{node.name}' distribution {node.distribution} rendered as GGX")
-    ignored_links(ctx, owner, node, ("Normal", "Tangent", "Coat Normal"))
+    ignored_links(ctx, owner, node, ("Tangent", "Coat Normal") if normal_tex >= 0 else
+                  ("Normal", "Tangent", "Coat Normal"))
     for inp, what, substitute in PRINCIPLED_UNSUPPORTED:
         v = val(inp)
         if v > 0.0:
@@ -281,6 +440,12 @@ def _principled(ctx, owner, node):
             plastic = _leaf(name=f"{owner}: plastic", model=constants.MAT_PLASTIC, params=plastic_params(ax, ay),
                             reflectance=_refl(ctx, owner, base), specular=_tint(ctx, f"{owner} tint", spec_tint),
                             ior=coat_ior)
+    if metal is not None and base_tex >= 0:
+        ctx.note(f"{owner}: a metal's base colour texture is not supported, used the image's mean colour")
+    textures = dict(rough=rough_tex, normal=normal_tex, strength=normal_strength)
+    metal = textured_leaf(metal, **textures)
+    glass = textured_leaf(glass, base=base_tex, **textures)
+    plastic = textured_leaf(plastic, base=base_tex, **textures)
     tree = _mix(metallic, metal, _mix(transmission, glass, plastic))
     if alpha < 1.0:
         ctx.note(f"{owner}: alpha {alpha:g} rendered as a stochastic mix with a transparent surface")
@@ -384,12 +549,17 @@ def _shader(ctx, owner, node, depth=0):
     if kind == "BSDF_PRINCIPLED":
         return _principled(ctx, owner, node)
     if kind == "BSDF_DIFFUSE":
-        colour = input_value(ctx, owner, node, ("Color",), "colour")
+        base_tex, colour = texture_input(ctx, owner, node, "Color", "colour")
+        if colour is None:
+            colour = input_value(ctx, owner, node, ("Color",), "colour")
         if (input_value(ctx, owner, node, ("Roughness",), "value") or 0.0) > 0.0:
             ctx.note(f"{owner}: '{node.name}' roughness ignored (Lambert)")
-        ignored_links(ctx, owner, node, ("Normal",))
-        return _leaf(name=f"{owner}: {node.name}", model=constants.MAT_LAMBERT, params=lambert_params(),
-                     reflectance=_refl(ctx, owner, colour)), []
+        normal_tex, normal_strength = normal_input(ctx, owner, node)
+        if normal_tex < 0:
+            ignored_links(ctx, owner, node, ("Normal",))
+        leaf = _leaf(name=f"{owner}: {node.name}", model=constants.MAT_LAMBERT, params=lambert_params(),
+                     reflectance=_refl(ctx, owner, colour))
+        return textured_leaf(leaf, base=base_tex, normal=normal_tex, strength=normal_strength), []
     if kind == "BSDF_GLOSSY":
         return _glossy(ctx, owner, node), []
     if kind == "BSDF_METALLIC":

@@ -10,9 +10,34 @@ GEOMETRY_TYPES = frozenset({"MESH", "CURVE", "SURFACE", "FONT", "META"})
 HELPER_TYPES = frozenset({"EMPTY", "CAMERA", "ARMATURE", "LATTICE", "LIGHT_PROBE", "SPEAKER"})
 
 
+def render_uv_layer(me):
+    """The UV map Cycles renders with (the active render one, else the active one), or None."""
+    layers = getattr(me, "uv_layers", None)
+    if layers is None or len(layers) == 0:
+        return None
+    for layer in layers:
+        if getattr(layer, "active_render", False):
+            return layer
+    return layers.active or layers[0]
+
+
+def corner_uvs(me):
+    """float32 (T*3, 2) UVs of the loop triangles' corners from the render UV map, or None."""
+    layer = render_uv_layer(me)
+    n_t = len(me.loop_triangles)
+    if layer is None or n_t == 0:
+        return None
+    uv = np.empty(len(layer.data) * 2, dtype=np.float32)
+    layer.data.foreach_get("uv", uv)
+    loops = np.empty(n_t * 3, dtype=np.int32)
+    me.loop_triangles.foreach_get("loops", loops)
+    return np.ascontiguousarray(uv.reshape(-1, 2)[loops], dtype=np.float32)
+
+
 def local_triangles(obj):
-    """(positions float32 (N, 3), triangles int32 (T, 3), material slot int32 (T,), normals) of an
-    evaluated object; normals is None when every face is flat-shaded.
+    """(positions float32 (N, 3), triangles int32 (T, 3), material slot int32 (T,), normals, uvs) of
+    an evaluated object; normals is None when every face is flat-shaded, uvs (float32 (T*3, 2),
+    per triangle corner, from the render UV map) None without a UV map.
 
     With smooth faces the triangles are unwelded (three vertices each) so that each corner
     carries Blender's corner normal (smooth faces, sharp edges, custom normals) and flat
@@ -39,11 +64,12 @@ def local_triangles(obj):
             me.loop_triangles.foreach_get("material_index", slot)
         co = co.reshape(-1, 3)
         tri = tri.reshape(-1, 3)
+        uvs = corner_uvs(me)
         smooth = np.zeros(n_t, dtype=bool)
         if n_t:
             me.loop_triangles.foreach_get("use_smooth", smooth)
         if not smooth.any() or not hasattr(me, "corner_normals"):
-            return co, tri, slot, None
+            return co, tri, slot, None, uvs
         loops = np.empty(n_t * 3, dtype=np.int32)
         me.loop_triangles.foreach_get("loops", loops)
         corner = np.empty(len(me.corner_normals) * 3, dtype=np.float32)
@@ -53,7 +79,7 @@ def local_triangles(obj):
         normals = corner.reshape(-1, 3)[loops].reshape(n_t, 3, 3)
         normals[~smooth] = face.reshape(-1, 3)[~smooth][:, None, :]
         return (np.ascontiguousarray(co[tri].reshape(-1, 3)), np.arange(n_t * 3, dtype=np.int32).reshape(-1, 3),
-                slot, np.ascontiguousarray(normals.reshape(-1, 3)))
+                slot, np.ascontiguousarray(normals.reshape(-1, 3)), uvs)
     finally:
         obj.to_mesh_clear()
 
@@ -87,7 +113,7 @@ def export_mesh(ctx, obj, matrix, name, cache=None):
             return None
         if key is not None:
             cache[key] = local
-    co, tri, slot, normals = local
+    co, tri, slot, normals, uvs = local
     if tri.shape[0] == 0:
         return None
     mats = slot_materials(obj)
@@ -108,6 +134,31 @@ def export_mesh(ctx, obj, matrix, name, cache=None):
             n[ok] /= length[ok]
             n[~ok] = 0.0
             world_normals = np.ascontiguousarray(n, dtype=np.float32)
+    # corner UVs only where a material reaches an image texture
+    if not _uses_textures(ctx, set(int(k) for k in np.unique(tri_mat))):
+        uvs = None
+    elif uvs is None:
+        ctx.note(f"{name}: no UV map, its image textures read at UV (0, 0)")
+        uvs = np.zeros((tri.shape[0] * 3, 2), np.float32)
     return Mesh(name=name, positions=points_to_world_metres(matrix, co, ctx.scale_length),
                 indices=np.ascontiguousarray(tri, dtype=np.int32),
-                material=np.ascontiguousarray(tri_mat, dtype=np.int32), normals=world_normals)
+                material=np.ascontiguousarray(tri_mat, dtype=np.int32), normals=world_normals, corner_uvs=uvs)
+
+
+def _uses_textures(ctx, indices):
+    """True if one of the core materials ``indices`` (or a component of their mixes) has a texture."""
+    from ...core import constants as C
+
+    seen = set()
+    stack = list(indices)
+    while stack:
+        i = stack.pop()
+        if i in seen or not 0 <= i < len(ctx.materials):
+            continue
+        seen.add(i)
+        m = ctx.materials[i]
+        if m.base_colour_texture >= 0 or m.roughness_texture >= 0 or m.normal_texture >= 0:
+            return True
+        if m.model in (C.MAT_MIX, C.MAT_ADD) and m.params is not None and len(m.params) >= 3:
+            stack += [int(m.params[1]), int(m.params[2])]
+    return False

@@ -99,3 +99,42 @@ def ignored_links(ctx, owner, node, names):
         sock = node.inputs.get(name)
         if sock is not None and sock.is_linked and linked_node(sock) is not None:
             ctx.note(f"{owner}: '{node.name}' input '{name}' ignored")
+
+
+def image_node(node, name):
+    """The Image Texture node feeding input ``name`` of ``node`` (through reroutes), or None."""
+    sock = node.inputs.get(name) if node is not None else None
+    if sock is None or not sock.is_linked:
+        return None
+    src = linked_node(sock)
+    return src if src is not None and src.type == "TEX_IMAGE" else None
+
+
+def normal_map_node(node, name="Normal"):
+    """The Normal Map node feeding input ``name`` of ``node``, or None."""
+    sock = node.inputs.get(name) if node is not None else None
+    if sock is None or not sock.is_linked:
+        return None
+    src = linked_node(sock)
+    return src if src is not None and src.type == "NORMAL_MAP" else None
+
+
+def image_pixels(img):
+    """float32 (H, W, 4) RGBA of a bpy image, rows top-down, as Blender holds them (byte images
+    in their file's encoding, float images linear), or None when it has no pixels (a missing file)."""
+    import numpy as np
+
+    try:
+        if not img.has_data:
+            img.pixels[0:1]  # noqa: B018  (touching the pixels loads a packed or file image)
+    except (RuntimeError, IndexError, AttributeError):
+        return None
+    w, h = (int(x) for x in img.size)
+    if w < 1 or h < 1 or not img.has_data:
+        return None
+    buf = np.empty(w * h * 4, dtype=np.float32)
+    try:
+        img.pixels.foreach_get(buf)
+    except (RuntimeError, ValueError):
+        return None
+    return np.ascontiguousarray(buf.reshape(h, w, 4)[::-1])

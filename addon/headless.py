@@ -81,8 +81,8 @@ def render_blend(blend, out, spp=None, compare_cycles=False, json_path=None, str
         raise HeadlessError(f"{blend}: {exc}") from None
     if warning:
         say(f"warning: {warning}")
-    dev = film.develop()
     st = core_scene.settings
+    dev = film.develop(colour_space=getattr(st, "colour_space", "rec709"))
     attrs = {"spectralgi.spp": str(stats.spp), "spectralgi.seed": str(st.seed),
              "spectralgi.maxDepth": str(st.max_depth), "spectralgi.blendFile": str(blend)}
     write_exr(out, dev, attrs)

@@ -730,6 +730,7 @@ def load(path) -> Scene:
             raise
         raise SceneError(f"scene file: malformed content in {path.name} ({e})") from None
     scene = Scene(meshes=meshes, spectra=spectra, materials=materials, lights=lights, ior_tables=ior_tables,
-                  media=media, profiles=profiles, camera=camera, world=world, settings=settings, metadata=dict(doc.get("metadata") or {}),
+                  media=media, profiles=profiles, camera=camera, world=world, settings=settings,
+                  metadata=dict(doc.get("metadata") or {}),
                   version=version)
     return validate(scene)

@@ -211,7 +211,8 @@ def read_ies(path):
         _fail(path, f"{len(toks) - pos[0]} numbers more than the {n_v} × {n_h} candela values announced")
     theta = _check_theta(path, theta)
     if not (theta[0] in (0.0, 90.0) and theta[-1] in (90.0, 180.0)):
-        _fail(path, f"vertical angles must run 0–90, 0–180 or 90–180 degrees (type C), got {theta[0]:g}–{theta[-1]:g}")
+        _fail(path, "vertical angles must run 0–90, 0–180 or 90–180 degrees (type C), "
+                    f"got {theta[0]:g}–{theta[-1]:g}")
     factor = multiplier * ballast * (fifth if version in ("LM-63-1986", "LM-63-1991", "LM-63-1995") else 1.0)
     if not factor > 0.0:
         _fail(path, f"candela multiplier × ballast factor must be positive, got {factor:g}")

@@ -48,9 +48,9 @@ from ..sampling.warps import cone_one_minus_cos, sample_uniform_cone
 
 # light_geo row layout
 LG_POS = 0  # 3: centre
-LG_U = 3  # 3: half-axis u (rect/ellipse)
-LG_V = 6  # 3: half-axis v (rect/ellipse)
-LG_N = 9  # 3: unit normal (rect/ellipse); spot axis; direction *towards* the sun
+LG_U = 3  # 3: half-axis u (rect/ellipse); a profiled point/spot's local +X
+LG_V = 6  # 3: half-axis v (rect/ellipse); a profiled point/spot's local +Y
+LG_N = 9  # 3: unit normal (rect/ellipse); spot axis, a profiled point's nadir; direction *towards* the sun
 LG_AREA = 12  # rect/ellipse area, m²
 LG_RADIUS = 13  # point/spot sphere radius, m
 LG_COS_HALF = 14  # spot: cos(spot_size / 2)

@@ -58,7 +58,7 @@ def _read_text(path):
         _fail(path, "no such file")
     data = path.read_bytes()
     try:
-        return data.decode("utf-8")
+        return data.decode("utf-8-sig")
     except UnicodeDecodeError:
         return data.decode("latin-1")  # older files carry Windows code-page text in their keywords
 

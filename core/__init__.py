@@ -32,6 +32,12 @@ from .material_presets import (glass_preset, glass_preset_names, metal_preset, m
 from .scene import IORTable
 from .scene import Medium  # participating media (compendium item 54)
 from .textures import Texture  # image textures
+# tabulated spectrum files (materials' reflectance, lights' emission shape)
+from .io.spectrum_file import SpectrumFileError, load_spectrum_file, spectrum_file_coeffs
+# photometric light profiles (IES LM-63, EULUMDAT)
+from .io.photometric import PhotometricError, read_profile
+from .io.photometric import preset_profiles as photometric_presets
+from .scene import Profile
 
 __all__ = [
     "constants",
@@ -52,4 +58,6 @@ __all__ = [
     "LIGHT_UNITS", "light_photometric", "light_emission_coeffs", "light_spectrum_names",
     "point_light_intensity", "spot_solid_angle", "sun_illuminance", "scene_white_xy",
     "Texture",
+    "SpectrumFileError", "load_spectrum_file", "spectrum_file_coeffs",
+    "Profile", "read_profile", "PhotometricError", "photometric_presets",
 ]

@@ -93,6 +93,7 @@ class Prepared:
     med_tab: np.ndarray = None  # float64 (2 M, N_LAMBDA): σa, σs rows (1/m); (0, N_LAMBDA) without media
     med_g: np.ndarray = None  # float64 (M,): Henyey–Greenstein g
     cam_medium: int = -1  # the medium around the camera
+    light_prof: np.ndarray = None  # float64: photometric profiles, concatenated (core/kernels/lights.py)
     # image textures (core/textures.py, core/kernels/textures.py)
     tri_tex: np.ndarray = None  # float32 (T, 10) leaf-order corner UVs + tangent frame; (0, 10) untextured
     tex_data: np.ndarray = None  # float32 (N,) all texels
@@ -103,11 +104,24 @@ class Prepared:
 
 
 def cmf_table(observer="1931"):
-    """CIE colour-matching functions on the renderer's grid: float32 (N_LAMBDA, 3)."""
-    wl, xyz = presets.cmfs(observer)
+    """CIE colour-matching functions on the renderer's grid: float32 (N_LAMBDA, 3) for the
+    CIE 1931 observer; for another observer (N_LAMBDA, 4): its x̄, ȳ, z̄ and V(λ) (the 1931
+    ȳ), which photometry keeps using (see core/film.py and the path kernel)."""
+    from .film import check_observer
+
+    observer = check_observer(observer)
     grid = moments.grid()
-    return np.ascontiguousarray(np.stack([np.interp(grid, wl, xyz[:, k], left=0, right=0) for k in range(3)],
-                                         axis=1), np.float32)
+    wl, xyz = presets.cmfs(observer)
+    cols = [np.interp(grid, wl, xyz[:, k], left=0, right=0) for k in range(3)]
+    if observer != "1931":
+        wl1, xyz1 = presets.cmfs("1931")
+        cols.append(np.interp(grid, wl1, xyz1[:, 1], left=0, right=0))
+    return np.ascontiguousarray(np.stack(cols, axis=1), np.float32)
+
+
+def v_lambda(cmf):
+    """The V(λ) column of a cmf_table: column 3 if present, else ȳ (CIE 1931)."""
+    return cmf[:, 3] if cmf.shape[1] > 3 else cmf[:, 1]
 
 
 def camera_vector(cam, settings=None):
@@ -159,7 +173,7 @@ def filter_distribution(settings):
 
 def _luminance_scale(shape_row, cmf, luminance, what):
     """Factor turning a spectrum shape into spectral radiance W/(m² sr nm) of ``luminance`` cd/m²."""
-    y = float(np.sum(shape_row.astype(np.float64) * cmf[:, 1]) * C.LAMBDA_STEP)
+    y = float(np.sum(shape_row.astype(np.float64) * v_lambda(cmf)) * C.LAMBDA_STEP)
     if luminance == 0.0:
         return 0.0
     if not y > 0.0:
@@ -255,7 +269,7 @@ def world_emission_basis(cmf=None):
     dwl, d65 = presets.illuminant("D65")
     grid = moments.grid()
     rows = np.stack([np.interp(grid, wl, basis[:, k]) for k in range(3)]) * np.interp(grid, dwl, d65)[None, :]
-    y = rows.astype(np.float64) @ cmf[:, 1].astype(np.float64) * C.LAMBDA_STEP
+    y = rows.astype(np.float64) @ v_lambda(cmf).astype(np.float64) * C.LAMBDA_STEP
     rows /= y.sum()
     return rows, y / y.sum()
 
@@ -308,10 +322,52 @@ def _scene_radius(v0, v1, v2):
     return max(0.5 * float(np.linalg.norm(hi - lo)), 1e-3)
 
 
+def _profile_table(scene, li, what, geo_row, LG):
+    """A profiled point/spot light: (kernel table, candela at the profile's peak, flux in lm).
+
+    Fills the light's frame into ``geo_row`` (LG_N nadir = its direction, LG_U / LG_V its
+    local +X / +Y) and returns the table laid out as core/kernels/lights.py reads it.
+    profile_mode "file" keeps the profile's candela, "peak" scales its maximum to
+    ``intensity``, "flux" scales ∫ I · spot mask dω to ``flux`` lm.
+    """
+    from .io.photometric import flux as profile_flux
+    from .lightunits import spot_falloff
+
+    pr = scene.profiles[li.profile]
+    n = np.asarray(li.direction, np.float64)
+    n = n / np.linalg.norm(n)
+    u = np.asarray(li.axis_u, np.float64)
+    u = u - (u @ n) * n
+    u /= np.linalg.norm(u)
+    v = np.cross(-n, u)  # local +Y = +Z × +X with +Z = −nadir
+    geo_row[LG.LG_N:LG.LG_N + 3] = n
+    geo_row[LG.LG_U:LG.LG_U + 3] = u
+    geo_row[LG.LG_V:LG.LG_V + 3] = v
+    peak = float(pr.candela.max()) if pr.candela.size else 0.0
+    mask = None
+    if li.kind == C.LIGHT_SPOT:
+        mask = lambda mu: spot_falloff(mu, li.spot_angle, li.spot_blend)  # noqa: E731
+    phi_file = profile_flux(pr, mask)  # lm of the profile as given (spot mask included)
+    if li.profile_mode == "file":
+        k = 1.0
+    elif li.profile_mode == "peak":
+        k = float(li.intensity) / peak if peak > 0 else 0.0
+    else:
+        if not phi_file > 0.0 and li.flux > 0.0:
+            raise SceneError(f"{what}.profile: profile {pr.name!r} emits no light"
+                             + (" inside the spot's cone" if mask is not None else "")
+                             + ", so it cannot be scaled to a flux")
+        k = float(li.flux) / phi_file if phi_file > 0 else 0.0
+    norm = pr.candela / peak if peak > 0 else pr.candela
+    table = np.concatenate([[pr.theta.size, pr.phi.size], np.radians(pr.theta), np.radians(pr.phi),
+                            norm.reshape(-1)])
+    return table, k * peak, k * phi_file
+
+
 def prepare(scene: Scene) -> Prepared:
     validate(scene)
     t0 = time.perf_counter()
-    cmf = cmf_table()
+    cmf = cmf_table(scene.settings.observer)
     spec = moments.tabulate(scene.spectra.coeffs, scene.spectra.kind) if len(scene.spectra) else \
         np.zeros((1, C.N_LAMBDA), np.float32)
 
@@ -371,6 +427,9 @@ def prepare(scene: Scene) -> Prepared:
     light_two = np.zeros(n_l, np.int32)
     light_vis = np.zeros(n_l, np.int32)
     light_power = np.zeros(n_l)
+    light_geo[:, LG.LG_PROF] = -1.0
+    prof_parts = []
+    prof_len = 0
     scene_radius = _scene_radius(v0, v1, v2)
     for i, li in enumerate(scene.lights):
         what = f"lights[{i}] ({li.name!r})"
@@ -410,6 +469,12 @@ def prepare(scene: Scene) -> Prepared:
                 light_geo[i, LG.LG_SMOOTH] = 1.0 / ((1.0 - ch) * blend) if blend > 0 and ch < 1 else 0.0
                 # ∫ mask dω = 2π ∫_{cos½}^1 mask dt, and smoothstep over its ramp averages 1/2
                 light_power[i] = 2.0 * np.pi * inten * (1.0 - ch) * (1.0 - 0.5 * blend)
+            if li.profile >= 0:
+                table, peak_cd, light_power[i] = _profile_table(scene, li, what, light_geo[i], LG)
+                light_scale[i] = _luminance_scale(shape, cmf, peak_cd / (np.pi * r * r) if r > 0 else peak_cd, what)
+                light_geo[i, LG.LG_PROF] = prof_len
+                prof_parts.append(table)
+                prof_len += table.size
         else:  # sun
             d = np.asarray(li.direction, np.float64)
             light_geo[i, LG.LG_N:LG.LG_N + 3] = -d / np.linalg.norm(d)  # towards the sun
@@ -449,7 +514,7 @@ def prepare(scene: Scene) -> Prepared:
     # the albedo AOV's colour: XYZ of every spectrum row under CIE D65 of Y = 1
     dwl, d65 = presets.illuminant("D65")
     d65 = np.interp(moments.grid(), dwl, d65)
-    cmf64 = cmf.astype(np.float64)
+    cmf64 = cmf[:, :3].astype(np.float64)  # the observer's x̄, ȳ, z̄
     d65 /= float(d65 @ cmf64[:, 1] * C.LAMBDA_STEP)
     spec_alb = np.ascontiguousarray((spec.astype(np.float64) * d65[None, :]) @ cmf64 * C.LAMBDA_STEP)
     n_world = 1 if power_world > 0 else 0
@@ -486,6 +551,7 @@ def prepare(scene: Scene) -> Prepared:
         if world_scale == 0.0:
             world_spec = -1
 
+    light_prof = np.ascontiguousarray(np.concatenate(prof_parts) if prof_parts else np.zeros(1))
     pts = [np.abs(v0).max(initial=0), np.abs(v1).max(initial=0), np.abs(v2).max(initial=0)]
     not_sun = light_kind != C.LIGHT_SUN
     if np.any(not_sun):
@@ -501,7 +567,7 @@ def prepare(scene: Scene) -> Prepared:
                     world_spec, world_scale, world_img, world_dist, world_par, int(world_row), world_emit,
                     camera_vector(scene.camera, scene.settings), filter_distribution(scene.settings),
                     _shading_normals(scene, bvh), spec_alb, scene_scale,
-                    time.perf_counter() - t0, mat_medium, med_tab, med_g, cam_medium,
+                    time.perf_counter() - t0, mat_medium, med_tab, med_g, cam_medium, light_prof,
                     tri_tex, tex_data, tex_info, mat_tex, mat_nstr, tex_row)
 
 
@@ -515,7 +581,8 @@ def _rows(prep, film, y0, y1, s0, s1):
                 b.bmin, b.bmax, b.child, b.count, b.axis, b.v0, b.e1, b.e2, prep.tri_mat, prep.tri_emitter,
                 prep.mat_model, prep.mat_p, prep.mat_ra, prep.mat_rb, prep.mat_eta, prep.mat_kappa, prep.mat_ior,
                 prep.ior_tab, prep.mat_emis, prep.mat_emis_scale, prep.mat_emis_two, prep.spec, prep.cmf,
-                prep.light_kind, prep.light_geo, prep.light_spec, prep.light_scale, prep.light_two_sided,
+                prep.light_kind, prep.light_geo, prep.light_prof, prep.light_spec, prep.light_scale,
+                prep.light_two_sided,
                 prep.light_visible, prep.emit_cdf, prep.emit_prob, prep.emit_tri, prep.emit_light,
                 int(prep.world_spec), float(prep.world_scale), prep.world_img, prep.world_dist, prep.world_par,
                 prep.world_row, prep.world_emit, film.spectral, film.aov, prep.tri_nrm, prep.spec_alb, int(st.sampler),
@@ -570,11 +637,13 @@ def kernels_compiled():
 def relative_error(film):
     """Relative standard error of the image's mean luminance, from the film's per-pixel
     sums of Y and Y² (pixels are independent): sqrt(Σ var(pixel mean)) / Σ pixel mean."""
+    from .film import photometric_y_sums
+
     sums = film.sums
     n = sums[..., 3]
     if n.size == 0 or n.min() < 2:
         return float("inf")
-    mean = sums[..., 1] / n
+    mean = photometric_y_sums(sums) / n
     var = np.maximum(sums[..., 4] / n - mean * mean, 0.0) / (n - 1.0)
     total = float(mean.sum())
     se = float(np.sqrt(var.sum()))
@@ -608,19 +677,22 @@ def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_
         if (resume.width, resume.height) != (cam.width, cam.height):
             raise SceneError(f"resume: the film is {resume.width}x{resume.height}, the scene renders "
                              f"{cam.width}x{cam.height}")
+        if getattr(resume, "observer", "1931") != scene.settings.observer:
+            raise SceneError(f"resume: the film was rendered with the CIE {resume.observer} observer, the scene "
+                             f"asks for {scene.settings.observer}")
         if resume.spp > scene.settings.spp:
             raise SceneError(f"resume: the film already has {resume.spp} spp, more than settings.spp = "
                              f"{scene.settings.spp}")
         film = resume.copy()
     else:
-        film = Film(cam.width, cam.height, spectral_bins)
+        film = Film(cam.width, cam.height, spectral_bins, observer=scene.settings.observer)
     total = int(scene.settings.spp)
     t_compile = 0.0
     if not kernels_compiled():
         say("Compiling kernels (first run only)")
         tc = time.perf_counter()
         # compile (or load from numba's cache) with a 1-sample pass on a scratch film
-        run_pass(prep, Film(1, 1), 0, 1)
+        run_pass(prep, Film(1, 1, observer=scene.settings.observer), 0, 1)
         t_compile = time.perf_counter() - tc
     say("Rendering")
     pool = ThreadPoolExecutor(max_workers=n_threads, thread_name_prefix="spectral-gi") if n_threads > 1 else None

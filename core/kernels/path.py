@@ -152,7 +152,8 @@ def _triangle_sample(tp, ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_
 
 @function
 def _emitter_sample(ei, ua, ub, px, py, pz, lam, le, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale, mat_emis_two,
-                    spec, light_kind, light_geo, light_spec, light_scale, light_two_sided, emit_tri, emit_light,
+                    spec, light_kind, light_geo, light_prof, light_spec, light_scale, light_two_sided, emit_tri,
+                    emit_light,
                     world_img, world_dist, world_par, world_row):
     """Emitter ``ei`` sampled from p, as the surface NEE does: (wx, wy, wz, dist, solid-angle
     pdf (inf: delta), fac) and its emitted spectral radiance (or intensity) into ``le``.
@@ -164,7 +165,7 @@ def _emitter_sample(ei, ua, ub, px, py, pz, lam, le, v0, e1, e2, tri_mat, mat_em
             le[i] = l_scale * lookup(spec, l_row, lam[i])
     elif emit_light[ei] >= 0:
         li = emit_light[ei]
-        wx, wy, wz, dist, lpdf, fac = sample_light(light_kind[li], light_geo, li, light_two_sided[li] != 0,
+        wx, wy, wz, dist, lpdf, fac = sample_light(light_kind[li], light_geo, light_prof, li, light_two_sided[li] != 0,
                                                    px, py, pz, ua, ub)
         for i in range(NW):
             le[i] = light_scale[li] * lookup(spec, light_spec[li], lam[i])
@@ -196,12 +197,16 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 mat_model, mat_p, mat_ra, mat_rb, mat_eta, mat_kappa, mat_ior, ior_tab,
                 mat_emis, mat_emis_scale, mat_emis_two,
                 spec, cmf,
-                light_kind, light_geo, light_spec, light_scale, light_two_sided, light_visible,
+                light_kind, light_geo, light_prof, light_spec, light_scale, light_two_sided, light_visible,
                 emit_cdf, emit_prob, emit_tri, emit_light,
                 world_spec, world_scale, world_img, world_dist, world_par, world_row, world_emit,
                 spectral, aov, tri_nrm, spec_alb, sampler, n_total, mat_medium, med_tab, med_g, cam_medium, nee,
                 tri_tex, tex_data, tex_info, mat_tex, mat_nstr, tex_row):
     """Add samples s0 .. s1-1 of every pixel of rows y0 .. y1-1 to ``film`` (H, W, 5) float64.
+
+    cmf: (N_LAMBDA, 3) x̄, ȳ, z̄ of the observer, or (N_LAMBDA, 4) with V(λ) in column 3 when
+    the observer is not CIE 1931: then ``film`` has a 6th channel, the V-weighted Y, and
+    channel 4 sums its square (photometric quantities do not depend on the observer).
 
     A serial kernel that releases the GIL: the renderer runs blocks of rows on a pool of
     Python threads (compiling a prange kernel takes four times as long, and numba's
@@ -237,7 +242,9 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
     spectral: (H, W, B) float64 sums of the spectral radiance averaged over B equal bins
     of [LMIN, LMAX] (W/(m² sr nm)); pass a (1, 1, 0) array to skip it.
 
-    light_geo: float64 (L, lights.LG_SIZE), layout in core/kernels/lights.py; light_scale turns
+    light_geo: float64 (L, lights.LG_SIZE), layout in core/kernels/lights.py; light_prof: float64,
+    the photometric profiles of the lights that have one, concatenated (offsets in light_geo
+    column LG_PROF; at least one element); light_scale turns
     a light's spectrum shape into its radiance (or intensity / illuminance for delta lights).
     emit_*: the emitter distribution over emissive triangles (emit_tri ≥ 0, leaf order)
     and analytic lights (emit_light ≥ 0); emit_cdf has E + 1 entries.
@@ -266,6 +273,9 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
     eps = EPS_REL * scene_scale
     has_media = med_tab.shape[0] > 0
     has_tex = tri_tex.shape[0] > 0
+    # a 4th cmf column is V(λ) (an observer other than CIE 1931): the film's channel 5 sums
+    # the photometric Y and channel 4 its square; else Y is photometric (5 channels)
+    photometric = cmf.shape[1] > 3 and film.shape[2] > 5
     for y in range(y0, y1):
         pm_tex = np.empty(mat_p.shape[1])
         stack = np.empty(STACK_SIZE, np.int32)
@@ -332,7 +342,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                             fac, lpdf = sun_hit(light_geo, li, dx, dy, dz)
                             tl = np.inf
                         else:
-                            tl, fac, lpdf = hit_light(lk, light_geo, li, light_two_sided[li] != 0,
+                            tl, fac, lpdf = hit_light(lk, light_geo, light_prof, li, light_two_sided[li] != 0,
                                                       ox, oy, oz, dx, dy, dz, t_end)
                             if tl == np.inf or tl <= t_lo:
                                 continue
@@ -360,7 +370,8 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                                     ei, rnd(sampler, key, pseed, s, dim + 1, n_total),
                                     rnd(sampler, key, pseed, s, dim + 2, n_total), px, py, pz, lam, le, v0, e1, e2,
                                     tri_mat, mat_emis, mat_emis_scale, mat_emis_two, spec, light_kind, light_geo,
-                                    light_spec, light_scale, light_two_sided, emit_tri, emit_light, world_img,
+                                    light_prof, light_spec, light_scale, light_two_sided, emit_tri, emit_light,
+                                    world_img,
                                     world_dist, world_par, world_row)
                                 media.nee(px, py, pz, dx, dy, dz, g, wx, wy, wz, dist, lpdf, fac, le, emit_prob[ei],
                                           medium, outer, lam, beta, rad, mw, bmin, bmax, child, count, axis, v0, e1,
@@ -552,7 +563,8 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                             ei, rnd(sampler, key, pseed, s, dim + 1, n_total), rnd(sampler, key, pseed, s, dim + 2,
                                                                                    n_total),
                             px, py, pz, lam, le, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale, mat_emis_two, spec,
-                            light_kind, light_geo, light_spec, light_scale, light_two_sided, emit_tri, emit_light,
+                            light_kind, light_geo, light_prof, light_spec, light_scale, light_two_sided, emit_tri,
+                            emit_light,
                             world_img, world_dist, world_par, world_row)
                         cos_n = snx * wx + sny * wy + snz * wz
                         if fac > 0.0 and lpdf > 0.0 and cos_n * (nx * wx + ny * wy + nz * wz) > 0.0:
@@ -628,12 +640,15 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 X = 0.0
                 Y = 0.0
                 Z = 0.0
+                V = 0.0
                 for i in range(NW):
                     if pdf_lam[i] > 0.0:
                         v = rad[i] / (pdf_lam[i] * NW)
                         X += v * lookup_cmf(cmf, 0, lam[i])
                         Y += v * lookup_cmf(cmf, 1, lam[i])
                         Z += v * lookup_cmf(cmf, 2, lam[i])
+                        if photometric:
+                            V += v * lookup_cmf(cmf, 3, lam[i])
                         if n_bins > 0:
                             b = int((lam[i] - LMIN) / bin_width)
                             if b >= n_bins:
@@ -643,7 +658,11 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 film[y, x, 1] += Y
                 film[y, x, 2] += Z
                 film[y, x, 3] += 1.0
-                film[y, x, 4] += Y * Y
+                if photometric:
+                    film[y, x, 4] += V * V
+                    film[y, x, 5] += V
+                else:
+                    film[y, x, 4] += Y * Y
                 aov[y, x, 0] += aX
                 aov[y, x, 1] += aY
                 aov[y, x, 2] += aZ

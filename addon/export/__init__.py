@@ -10,7 +10,7 @@ from .context import ExportCancelled, ExportContext, ExportError
 from .convert import matrix_to_array
 from .light import export_light
 from .material import export_world_volume
-from .mesh import GEOMETRY_TYPES, HELPER_TYPES, export_mesh
+from .mesh import GEOMETRY_TYPES, HELPER_TYPES, export_mesh, slot_materials
 from .world import export_world
 
 __all__ = ["ExportCancelled", "ExportError", "ExportResult", "export_scene", "render_settings"]
@@ -100,6 +100,9 @@ def export_scene(depsgraph, scene=None, should_cancel=None):
             if mesh is not None:
                 meshes.append(mesh)
                 surfaced.add(obj.original.name)
+                for mat in slot_materials(obj):
+                    if mat is not None:
+                        ctx.material_user(mat.name, name)
         elif kind == "LIGHT":
             light = export_light(ctx, obj, matrix, name)
             if light is not None:

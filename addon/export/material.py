@@ -407,7 +407,7 @@ def _shader(ctx, owner, node, depth=0):
         strength = input_value(ctx, owner, node, ("Strength",), "value")
         return None, [(colour, strength)]
     # Unsupported shader: listed in the warning; its colour (if any) stands in as a diffuse colour.
-    ctx.skip("shader nodes", f"{owner}/{node.name}")
+    ctx.skip("shader nodes (a diffuse surface of their colour instead)", f"{owner}/{node.name}")
     colour = node_colour(ctx, owner, node, fallback=None)
     if colour is None:
         from .context import DEFAULT_GREY

@@ -399,6 +399,36 @@ def test_blackbody_colour_follows_cycles(ext, bpy):
     assert "blackbody" in res.warning
 
 
+# ----------------------------------------------------------------------------- the one warning
+
+
+def test_one_warning_names_objects_nodes_and_substitutes(ext, bpy):
+    b = ext.build
+    minimal(b)
+    toon = b.shader("Toon", "ShaderNodeBsdfToon", Color=(0.3, 0.6, 0.9, 1.0))
+    b.plane("Cartoon", material=toon)
+    b.plane("Sketch", material=toon, location=(3, 0, 0))
+    coated = b.principled("Lacquer")
+    next(n for n in coated.node_tree.nodes if n.type == "BSDF_PRINCIPLED").inputs["Coat Weight"].default_value = 0.5
+    b.plane("Table", material=coated)
+    b.plane("Clean", material=b.principled("Plain"))
+    b.link(bpy.data.objects.new("Fog", bpy.data.volumes.new("Fog")))
+    res = b.export(ext)
+    w = res.warning
+    assert isinstance(w, str) and "\n" not in w
+    # node names with their substitute
+    assert "'Toon/Toon BSDF'" in w and "diffuse surface of their colour" in w
+    assert "Lacquer/Principled BSDF: coat 0.5 (ignored)" in w
+    assert "volume objects: 'Fog'" in w
+    # and the objects that use each material named
+    assert "'Toon': 'Cartoon', 'Sketch'" in w and "'Lacquer': 'Table'" in w
+    assert "Plain" not in w and "Clean" not in w
+    m = material_of(res.scene, "Sketch")  # the substitute: a Lambert of the node's colour
+    assert m.model == ext.core.constants.MAT_LAMBERT
+    np.testing.assert_allclose(res.scene.spectra.coeffs[m.reflectance],
+                               ext.core.reflectance_from_rgb((0.3, 0.6, 0.9)), atol=1e-6)
+
+
 # ----------------------------------------------------------------------------- area light shapes
 
 
@@ -438,4 +468,5 @@ def test_square_and_ellipse_area_lights(ext, bpy):
 # square and ellipse (test_square_and_ellipse_area_lights). world colour (test_addon_export::
 # test_world_background), HDRI (test_addon_lights::test_environment_texture_world), DOF
 # (test_addon_lights::test_depth_of_field), unsupported nodes (test_addon_export::
-# test_unsupported_things_are_listed_in_one_warning).
+# test_unsupported_things_are_listed_in_one_warning, test_one_warning_names_objects_nodes_and_substitutes).
+# Image Texture, UV maps, Normal Map and holdout are covered by the tests of their own work.

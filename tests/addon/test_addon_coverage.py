@@ -108,11 +108,17 @@ def test_extruded_text_is_a_closed_slab(ext, bpy):
     assert m.indices.shape[0] > 20
     # the glyphs are extruded ±extrude about the text's plane (its local z = 0, here z = 0.5)
     assert p[:, 2].min() == pytest.approx(0.4, abs=1e-5) and p[:, 2].max() == pytest.approx(0.6, abs=1e-5)
-    # two glyphs of a 2-unit font: wider than tall-ish letters of one, starting at the origin
+    # glyphs of a 2-unit font start at the text's origin (x = -1) and are capital-height tall
     assert p[:, 0].min() >= -1.0 - 1e-6 and p[:, 0].max() > 0.0
     height = p[:, 1].max() - p[:, 1].min()
     assert 0.8 < height < 2.0
+    # a closed prism: its volume is the front face's area times the 0.2 thickness
     assert closed_manifold(m.indices, m.positions)
+    tri = p[m.indices]
+    front = np.all(np.abs(tri[:, :, 2] - 0.6) < 1e-5, axis=1)
+    area = 0.5 * np.linalg.norm(np.cross(tri[front, 1] - tri[front, 0], tri[front, 2] - tri[front, 0]), axis=1).sum()
+    assert area > 0.2
+    assert abs(enclosed_volume(m.indices, m.positions)) == pytest.approx(0.2 * area, rel=1e-4)
 
 
 def test_metaball_is_the_isosurface_of_its_field(ext, bpy):

@@ -14,9 +14,9 @@ from .colour import XYZ_to_Lab, XYZ_to_Luv, XYZ_to_sRGB_linear, XYZ_to_xyY, chro
 D65_XY = (0.3127, 0.3290)
 
 
-AOV_CHANNELS = 8  # albedo XYZ, normal xyz, depth sum, number of samples that hit
+AOV_CHANNELS = 9  # albedo XYZ, normal xyz, depth sum, number of samples that hit, transparent samples
 FILM_FORMAT = "spectral-gi-film"
-FILM_VERSION = 1
+FILM_VERSION = 2  # 2: the AOVs gained the transparent-sample count (version 1 films load as opaque)
 
 
 class Film:
@@ -80,9 +80,12 @@ class Film:
                 data = {k: z[k] for k in z.files}
         except Exception as e:  # OSError, zipfile.BadZipFile, ValueError
             raise ValueError(f"film {path}: cannot read ({e})") from None
-        if str(data.get("format", "")) != FILM_FORMAT or int(data.get("version", -1)) != FILM_VERSION:
-            raise ValueError(f"film {path}: not a spectral-gi film of version {FILM_VERSION}")
+        version = int(data.get("version", -1))
+        if str(data.get("format", "")) != FILM_FORMAT or version not in (1, FILM_VERSION):
+            raise ValueError(f"film {path}: not a spectral-gi film of version 1 or {FILM_VERSION}")
         sums, spectral, aov = data["sums"], data["spectral"], data["aov"]
+        if version == 1 and aov.ndim == 3 and aov.shape[2] == AOV_CHANNELS - 1:
+            aov = np.concatenate([aov, np.zeros(aov.shape[:2] + (1,))], axis=2)  # no transparent samples
         if sums.ndim != 3 or sums.shape[2] != C.FILM_CHANNELS or aov.shape != sums.shape[:2] + (AOV_CHANNELS,):
             raise ValueError(f"film {path}: unexpected array shapes {sums.shape}, {aov.shape}")
         f = cls(sums.shape[1], sums.shape[0])
@@ -108,6 +111,7 @@ class Developed:
     albedo: np.ndarray = None  # (H, W, 3) linear Rec.709 reflectance of the first non-delta hit (under D65)
     normal: np.ndarray = None  # (H, W, 3) mean world shading normal of the first hit, facing the camera
     depth: np.ndarray = None  # (H, W) mean camera-ray distance to the first hit (m), inf where nothing was hit
+    alpha: np.ndarray = None  # (H, W) film alpha: the fraction of samples not left transparent (holdout, transparent film)
 
 
 def develop(sums, white_luminance=C.K_M, white_balance=None, aov=None):
@@ -119,7 +123,10 @@ def develop(sums, white_luminance=C.K_M, white_balance=None, aov=None):
     only ``rgb``) is adapted from that white to D65 with Bradford's transform, as a
     camera's white balance would; XYZ, xyY, Lab and Luv stay unadapted.
     aov: the film's AOV sums (Film.aov); then ``albedo``, ``normal`` (sums over the sample
-    count) and ``depth`` (over the samples that hit; inf if none did) are filled in.
+    count), ``depth`` (over the samples that hit; inf if none did) and ``alpha`` (1 minus
+    the fraction of samples that saw a holdout or, with a transparent film, nothing; 0
+    where the pixel has no samples) are filled in. ``XYZ``/``rgb`` are then premultiplied
+    by alpha, as Blender's Combined pass: transparent samples carry no radiance.
     """
     n = sums[..., 3]
     safe = np.maximum(n, 1.0)
@@ -139,7 +146,7 @@ def develop(sums, white_luminance=C.K_M, white_balance=None, aov=None):
     scale = C.K_M / float(white_luminance)  # film units → units of the reference white
     xyY = XYZ_to_xyY(XYZ, illuminant=np.array(D65_XY))
     xyY[..., 2] *= C.K_M
-    albedo = normal = depth = None
+    albedo = normal = depth = alpha = None
     if aov is not None:
         albedo = XYZ_to_sRGB_linear(aov[..., 0:3] / safe[..., None])
         albedo[n == 0] = 0.0
@@ -147,8 +154,10 @@ def develop(sums, white_luminance=C.K_M, white_balance=None, aov=None):
         hits = aov[..., 7]
         depth = np.full(hits.shape, np.inf)
         np.divide(aov[..., 6], hits, out=depth, where=hits > 0)
+        if aov.shape[2] > 8:
+            alpha = np.where(n > 0, 1.0 - aov[..., 8] / safe, 0.0)
     return Developed(XYZ=XYZ, rgb=XYZ_to_sRGB_linear(rgb_xyz), luminance=C.K_M * mean_y,
                      variance=variance, count=n.copy(), xyY=xyY,
                      Lab=XYZ_to_Lab(XYZ * scale, np.array(D65_XY)), Luv=XYZ_to_Luv(XYZ * scale, np.array(D65_XY)),
                      white_luminance=float(white_luminance), white_xy=D65_XY, albedo=albedo, normal=normal,
-                     depth=depth)
+                     depth=depth, alpha=alpha)

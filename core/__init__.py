@@ -31,6 +31,7 @@ from .material_presets import (glass_preset, glass_preset_names, metal_preset, m
                                wavelength_grid)
 from .scene import IORTable
 from .scene import Medium  # participating media (compendium item 54)
+from .sensors import has_sensors, illuminance_image, illuminance_stats, render_illuminance  # lux on sensor meshes
 
 __all__ = [
     "constants",
@@ -50,4 +51,5 @@ __all__ = [
     "compare_images", "delta_e_image", "side_by_side", "sRGB_decode",
     "LIGHT_UNITS", "light_photometric", "light_emission_coeffs", "light_spectrum_names",
     "point_light_intensity", "spot_solid_angle", "sun_illuminance", "scene_white_xy",
+    "render_illuminance", "illuminance_stats", "illuminance_image", "has_sensors",
 ]

@@ -41,7 +41,8 @@ def render_settings(scene):
                           sampler=getattr(constants, SAMPLER_TAGS[get("sampler")]),
                           filter=getattr(constants, FILTER_TAGS[get("pixel_filter")]),
                           filter_width=float(get("filter_width")), time_limit=float(get("time_limit")),
-                          noise_target=float(get("noise_target")))
+                          noise_target=float(get("noise_target")),
+                          film_transparent=bool(getattr(scene.render, "film_transparent", False)))
 
 
 def _instance_name(inst, obj):
@@ -77,6 +78,9 @@ def export_scene(depsgraph, scene=None, should_cancel=None):
         if kind in GEOMETRY_TYPES:
             mesh = export_mesh(ctx, obj, matrix, name, cache if inst.is_instance else None)
             if mesh is not None:
+                # the illuminance-sensor flag (our object property) and Blender's object holdout
+                mesh.sensor = bool(getattr(obj, "spectral_gi_sensor", False))
+                mesh.holdout = bool(getattr(obj, "is_holdout", False))
                 meshes.append(mesh)
             elif kind != "MESH":
                 ctx.skip("objects with no surface", obj.name)

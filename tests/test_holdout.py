@@ -167,3 +167,16 @@ def test_alpha_survives_save_load_and_resume(tmp_path):
                         sums=full.sums, spectral=full.spectral, aov=full.aov[..., :8])
     old = Film.load(v1)
     assert np.all(old.develop().alpha == 1.0)
+
+
+def test_flags_survive_scene_save_load_and_are_validated(tmp_path):
+    from spectral_gi.core.scene import SceneError, load, save, validate
+
+    sc = card_scene(card_mesh_holdout=True, transparent=True)
+    sc.meshes[0].sensor = True
+    back = load(save(sc, tmp_path / "s.json"))
+    assert [(m.sensor, m.holdout) for m in back.meshes] == [(True, False), (False, True)]
+    assert back.settings.film_transparent and back.materials[2].holdout and not back.materials[1].holdout
+    sc.meshes[0].sensor = 1
+    with pytest.raises(SceneError, match=r"meshes\[0\].*sensor"):
+        validate(sc)

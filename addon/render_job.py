@@ -398,3 +398,4 @@ def render_with_engine(engine, depsgraph):
         if STATE.illuminance is not None:
             text += " | " + sensor_report(STATE.illuminance)
         STATE.message = text
+        STATE.engine_stats = stats  # the last engine render's RenderStats (spectral-gi render-blend reports them)

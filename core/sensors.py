@@ -84,13 +84,15 @@ def illuminance_image(film) -> IlluminanceImage:
     The film's transparent-sample count (AOV channel 8) is the number of samples that hit
     no sensor and carry no radiance; E is π K_m times the mean Y of the other samples.
     """
+    from .film import photometric_y_sums
+
     n = film.sums[..., 3]
     n_sensor = n - film.aov[..., 8]
     ok = n_sensor > 0.5
     safe = np.where(ok, n_sensor, 1.0)
-    mean_y = film.sums[..., 1] / safe
+    mean_y = photometric_y_sums(film.sums) / safe  # V(λ)-weighted Y, whatever the film's observer
     lux = np.where(ok, math.pi * C.K_M * mean_y, np.nan)
-    # only sensor samples carry Y, so Σ Y² over them is the film's Y² sum
+    # only sensor samples carry Y, so Σ Y² over them is the film's (photometric) Y² sum
     var = np.maximum(film.sums[..., 4] / safe - mean_y * mean_y, 0.0) / np.maximum(safe - 1.0, 1.0)
     std = np.where(n_sensor > 1.5, math.pi * C.K_M * np.sqrt(var), np.inf)
     coverage = np.where(n > 0, n_sensor / np.maximum(n, 1.0), 0.0)

@@ -19,6 +19,8 @@ DEFAULTS = {"samples": 64, "max_bounces": 16, "seed": 0, "use_animated_seed": Fa
             "pixel_filter": "BLACKMAN_HARRIS", "filter_width": 1.5, "time_limit": 0.0, "noise_target": 0.0}
 SAMPLER_TAGS = {"INDEPENDENT": "SAMPLER_INDEPENDENT", "HALTON": "SAMPLER_HALTON", "HAMMERSLEY": "SAMPLER_HAMMERSLEY",
                 "STRATIFIED": "SAMPLER_STRATIFIED"}
+COLOUR_SPACES = {"REC709": "rec709", "ACESCG": "acescg", "XYZ": "xyz"}  # add-on enum → RenderSettings
+OBSERVERS = {"CIE1931": "1931", "CIE1964": "1964"}
 FILTER_TAGS = {"BOX": "FILTER_BOX", "BLACKMAN_HARRIS": "FILTER_BLACKMAN_HARRIS", "GAUSSIAN": "FILTER_GAUSSIAN"}
 
 
@@ -42,7 +44,18 @@ def render_settings(scene):
                           filter=getattr(constants, FILTER_TAGS[get("pixel_filter")]),
                           filter_width=float(get("filter_width")), time_limit=float(get("time_limit")),
                           noise_target=float(get("noise_target")),
+                          colour_space=COLOUR_SPACES[str(getattr(s, "colour_space", "REC709"))],
+                          observer=OBSERVERS[str(getattr(s, "observer", "CIE1931"))],
                           film_transparent=bool(getattr(scene.render, "film_transparent", False)))
+
+
+def fourier_order(scene):
+    """Coefficients per spectrum: the scene's Spectral GI Fourier order (the core's default without the add-on)."""
+    from ...core import constants
+
+    s = getattr(scene, "spectral_gi", None)
+    return int(getattr(s, "fourier_order", constants.N_COEFFS_DEFAULT)) if s is not None else \
+        constants.N_COEFFS_DEFAULT
 
 
 def _instance_name(inst, obj):
@@ -61,7 +74,7 @@ def export_scene(depsgraph, scene=None, should_cancel=None):
     from ...core import Scene, validate
 
     scene = scene if scene is not None else depsgraph.scene
-    ctx = ExportContext(scene.unit_settings.scale_length, should_cancel)
+    ctx = ExportContext(scene.unit_settings.scale_length, should_cancel, n_coeffs=fourier_order(scene))
     from .camera import export_camera
 
     camera = export_camera(ctx, scene, depsgraph)

@@ -129,7 +129,7 @@ def _preset_reflectance(ctx, patch):
     key = ("P", patch)
     index = ctx._spectrum_index
     if key not in index:
-        index[key] = ctx.spectra.add(f"ColorChecker {patch}", reflectance_preset(patch),
+        index[key] = ctx.spectra.add(f"ColorChecker {patch}", reflectance_preset(patch, ctx.n_coeffs),
                                      constants.SPECTRUM_BOUNDED)
     return index[key]
 
@@ -646,6 +646,10 @@ def _spectrum_colour(ctx, mat, settings, node):
     """Reflectance spectrum index of the override: the node colour uplifted, or a ColorChecker patch."""
     if settings.spectrum == "PRESET":
         return _preset_reflectance(ctx, settings.reflectance_preset)
+    if settings.spectrum == "FILE":  # a tabulated reflectance; a bad file falls back to the colour (reported)
+        index = ctx.spectrum_file(getattr(settings, "spectrum_file", ""), "reflectance", f"material {mat.name!r}")
+        if index is not None:
+            return index
     colour = node_colour(ctx, mat.name, node, fallback=None) if node is not None else None
     if colour is None:
         colour = rgb_of(mat.diffuse_color)

@@ -177,3 +177,14 @@ def test_measuring_needs_a_sensor_and_leaves_the_normal_render_alone():
     # the scene's own filter (Blackman-Harris, 1.5 px) blurs a little: compare the mean
     assert np.mean(dev.luminance[2:6, 2:6]) == pytest.approx(0.5 * np.mean(lux[2:6, 2:6]) / math.pi, rel=0.03)
     assert ok.sum() > 0
+
+
+def test_lux_does_not_depend_on_the_observer():
+    # photometry is V(λ) whatever the film's colour-matching functions
+    sc = floor_scene(res=8, spp=8)
+    base = render_illuminance(sc, threads=1).image.lux
+    sc.settings.observer = "1964"
+    other = render_illuminance(sc, threads=1).image.lux
+    ok = np.isfinite(base)
+    assert np.array_equal(ok, np.isfinite(other))
+    np.testing.assert_allclose(other[ok], base[ok], rtol=1e-9)

@@ -10,7 +10,7 @@ from .context import ExportCancelled, ExportContext, ExportError
 from .convert import matrix_to_array
 from .light import export_light
 from .material import export_world_volume
-from .mesh import GEOMETRY_TYPES, HELPER_TYPES, export_mesh
+from .mesh import GEOMETRY_TYPES, HELPER_TYPES, export_mesh, slot_materials
 from .world import export_world
 
 __all__ = ["ExportCancelled", "ExportError", "ExportResult", "export_scene", "render_settings"]
@@ -59,7 +59,7 @@ def fourier_order(scene):
 
 
 def _instance_name(inst, obj):
-    if inst.is_instance and inst.parent is not None:
+    if inst.is_instance and inst.parent is not None and inst.parent.original != obj.original:
         return f"{inst.parent.name}/{obj.name}"
     return obj.name
 
@@ -80,29 +80,42 @@ def export_scene(depsgraph, scene=None, should_cancel=None):
     camera = export_camera(ctx, scene, depsgraph)
     meshes, lights = [], []
     cache = {}
+    surfaced, unsurfaced = set(), []
     for inst in depsgraph.object_instances:
         ctx.check_cancel()
         obj = inst.object
         if not inst.is_instance and (obj.original.hide_render or not inst.show_self):
             continue
+        if inst.is_instance and inst.parent is not None and inst.parent.original.hide_render:
+            continue  # the instances of a hidden object (also the mesh of a hidden curve, text or metaball)
         name = _instance_name(inst, obj)
         kind = obj.type
         matrix = matrix_to_array(inst.matrix_world)
         if kind in GEOMETRY_TYPES:
+            if not isinstance(obj.data, bpy.types.Mesh):
+                # curves, text, metaballs, surfaces: Blender lists their evaluated mesh as an instance of
+                # theirs (a mesh object), exported there as Cycles does; converting this too doubled them
+                unsurfaced.append(obj.original.name)
+                continue
             mesh = export_mesh(ctx, obj, matrix, name, cache if inst.is_instance else None)
             if mesh is not None:
                 # the illuminance-sensor flag (our object property) and Blender's object holdout
                 mesh.sensor = bool(getattr(obj, "spectral_gi_sensor", False))
                 mesh.holdout = bool(getattr(obj, "is_holdout", False))
                 meshes.append(mesh)
-            elif kind != "MESH":
-                ctx.skip("objects with no surface", obj.name)
+                surfaced.add(obj.original.name)
+                for mat in slot_materials(obj):
+                    if mat is not None:
+                        ctx.material_user(mat.name, name)
         elif kind == "LIGHT":
             light = export_light(ctx, obj, matrix, name)
             if light is not None:
                 lights.append(light)
         elif kind not in HELPER_TYPES:
             ctx.skip(f"{kind.lower()} objects", obj.name)
+    for obj_name in unsurfaced:
+        if obj_name not in surfaced:
+            ctx.skip("objects with no surface", obj_name)
     ctx.check_cancel()
     world = scene.world.evaluated_get(depsgraph) if scene.world is not None else None
     core_world = export_world(ctx, world)

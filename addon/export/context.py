@@ -42,6 +42,7 @@ class ExportContext:
         self._spectrum_index = {}
         self.unsupported = {}  # category -> list of names
         self.notes = []  # substitutions made (linked inputs, ignored settings)
+        self.material_users = {}  # material name -> names of the objects rendered with it (for the warning)
 
     # ----------------------------------------------------------------- cancel / warnings
 
@@ -59,14 +60,27 @@ class ExportContext:
         if text not in self.notes:
             self.notes.append(text)
 
+    def material_user(self, material_name, object_name):
+        """Record that object ``object_name`` renders with material ``material_name``."""
+        users = self.material_users.setdefault(material_name, [])
+        if object_name not in users:
+            users.append(object_name)
+
     def warning(self):
-        """One message listing everything not exported or substituted, or None."""
+        """One message listing everything not exported or substituted, or None; the materials it
+        names are followed by the objects that use them."""
         parts = [f"{cat}: {', '.join(repr(n) for n in names)}" for cat, names in self.unsupported.items()]
         text = ""
         if parts:
             text = "Not exported — " + "; ".join(parts)
         if self.notes:
             text = (text + ". " if text else "") + "Approximated — " + "; ".join(self.notes)
+        items = [n for names in self.unsupported.values() for n in names] + self.notes
+        named = [(m, users) for m, users in self.material_users.items()
+                 if any(str(i).startswith((f"{m}/", f"{m}:")) for i in items)]
+        if named:
+            text += ". Materials on objects — " + "; ".join(
+                f"{m!r}: {', '.join(repr(u) for u in users)}" for m, users in named)
         return text or None
 
     # ----------------------------------------------------------------- spectra

@@ -20,7 +20,8 @@ Node → model (α = roughness², as Cycles):
   conductor: its RGB η, κ interpolated over wavelength); Glass → (GGX_)DIELECTRIC,
   colour tinting reflection and transmission; Refraction →
   the same without reflection (noted); Transparent → a dielectric of IOR 1;
-  Emission → emission; Mix / Add Shader → MAT_MIX / MAT_ADD.
+  Emission → emission; Mix / Add Shader → MAT_MIX / MAT_ADD. A Blackbody node as an emitter's
+  colour gives Planck's spectrum at its temperature (luminance from its colour, Y = 1 as in Cycles).
 
 The Material Output's Volume socket becomes a homogeneous core Medium inside the mesh
 (Material.interior; see "the Volume socket" below); a Volume without a Surface gives a
@@ -409,7 +410,7 @@ def _shader(ctx, owner, node, depth=0):
         ctx.note(f"{owner}: '{node.name}' inside a shader mix is black (a partial holdout is not supported)")
         return None, []
     # Unsupported shader: listed in the warning; its colour (if any) stands in as a diffuse colour.
-    ctx.skip("shader nodes", f"{owner}/{node.name}")
+    ctx.skip("shader nodes (a diffuse surface of their colour instead)", f"{owner}/{node.name}")
     colour = node_colour(ctx, owner, node, fallback=None)
     if colour is None:
         from .context import DEFAULT_GREY
@@ -446,6 +447,17 @@ def _emission_fields(ctx, name, emissions):
     rgb, strength = combine_emission(emissions)
     if not strength > 0.0 or not max(rgb) > 0.0:
         return -1, 0.0
+    live = [c for c, s in emissions if s > 0.0 and max(c[:3]) > 0.0]
+    kelvin = [getattr(c, "temperature", None) for c in live]
+    if len(live) == 1 and kelvin[0] is not None:  # a Blackbody node's colour: Planck's spectrum
+        from ...core import light_emission_coeffs
+
+        t = kelvin[0]
+        index = ctx.emission_spectrum(("blackbody", round(t, 6)), f"blackbody {t:g} K", lambda: light_emission_coeffs(
+            "blackbody", temperature=t, n_coeffs=ctx.n_coeffs))
+        return index, float(emission_luminance(rgb, strength))
+    if any(k is not None for k in kelvin):
+        ctx.note(f"{name}: a blackbody emission combined with other emitters is rendered as its colour")
     return ctx.emission(f"{name} emission", rgb), float(emission_luminance(rgb, strength))
 
 

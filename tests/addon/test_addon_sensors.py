@@ -150,3 +150,20 @@ def test_film_transparent_alpha_over_a_lit_world(ext, bpy, tmp_path):
     assert np.all(a[miss] == 0.0) and np.all(ch["Combined.R"][miss] == 0.0)
     # the world still lights the floor: a grey Lambert under a uniform sky of RGB 0.2 reflects 0.5 · 0.2
     assert np.mean(ch["Combined.G"][4:12, 4:12]) == pytest.approx(0.1, rel=0.05)
+
+
+def test_sensor_and_holdout_flags_of_curves_and_instances(ext, bpy):
+    b = ext.build
+    curve = bpy.data.curves.new("Text", "FONT")
+    curve.body = "A"
+    curve.extrude = 0.05
+    text = b.link(bpy.data.objects.new("Text", curve))
+    text.spectral_gi_sensor = True
+    text.is_holdout = True
+    plain = b.plane("Plain", size=1.0, location=(3, 0, 0))
+    b.camera()
+    scene = b.export(ext).scene
+    flags = {m.name: (m.sensor, m.holdout) for m in scene.meshes}
+    assert flags[plain.name] == (False, False)
+    text_flags = [v for k, v in flags.items() if k.startswith("Text")]
+    assert text_flags == [(True, True)], flags

@@ -43,6 +43,8 @@ class Mesh:
     normals: np.ndarray | None = None  # float32 (N, 3) shading normals, or None (flat)
     uvs: np.ndarray | None = None  # float32 (N, 2), or None
     corner_uvs: np.ndarray | None = None  # float32 (T*3, 2): UVs per triangle corner (wins over uvs), or None
+    sensor: bool = False  # an illuminance sensor (core.sensors.render_illuminance measures on it)
+    holdout: bool = False  # camera rays that reach it first see a hole (alpha 0); other rays its material
 
 
 @dataclass
@@ -121,6 +123,7 @@ class Material:
     roughness_texture: int = -1  # one channel: Blender roughness r, GGX α = r² (GGX and plastic models)
     normal_texture: int = -1  # tangent-space normal map (three channels, OpenGL +Y)
     normal_strength: float = 1.0  # the Normal Map node's strength
+    holdout: bool = False  # Cycles' Holdout shader: a hole (alpha 0) for camera rays, black and absorbing for others
 
 
 @dataclass
@@ -271,6 +274,7 @@ class RenderSettings:
     next_event: bool = True  # False: the naive reference integrator (BSDF sampling only, no NEE, no MIS)
     colour_space: str = "rec709"  # output colour space of the image: 'rec709', 'acescg' or 'xyz' (core.film)
     observer: str = "1931"  # CIE observer of the film's XYZ: '1931' (2°) or '1964' (10°); photometry is V(λ)
+    film_transparent: bool = False  # Cycles' Film > Transparent: camera rays that miss give alpha 0, no world
 
 
 @dataclass
@@ -406,6 +410,8 @@ def validate(scene: Scene) -> Scene:
         _check_number(f"{nm}.interior", m.interior, integer=True)
         if not -1 <= m.interior < n_med:
             _fail(f"{nm}.interior", f"medium index {m.interior} out of range [-1, {n_med})")
+        if not isinstance(m.holdout, (bool, np.bool_)):
+            _fail(f"{nm}.holdout", f"expected true or false, got {m.holdout!r}")
         if m.model == C.MAT_NULL and m.emission != -1 and m.emission_luminance > 0.0:
             _fail(f"{nm}.emission", "a null surface (model MAT_NULL) cannot emit")
         if m.params is not None:
@@ -456,6 +462,9 @@ def validate(scene: Scene) -> Scene:
             _check_array(f"{nm}.normals", mesh.normals, np.float32, (n_v, 3))
         if mesh.uvs is not None:
             _check_array(f"{nm}.uvs", mesh.uvs, np.float32, (n_v, 2))
+        for key in ("sensor", "holdout"):
+            if not isinstance(getattr(mesh, key), (bool, np.bool_)):
+                _fail(f"{nm}.{key}", f"expected true or false, got {getattr(mesh, key)!r}")
     from . import textures as _textures
 
     _textures.check(scene, _fail)
@@ -576,6 +585,8 @@ def validate(scene: Scene) -> Scene:
         _fail("settings.colour_space", f"unknown colour space {s.colour_space!r} (one of {', '.join(COLOUR_SPACES)})")
     if s.observer not in OBSERVERS:
         _fail("settings.observer", f"unknown observer {s.observer!r} ('1931': CIE 1931 2°, '1964': CIE 1964 10°)")
+    if not isinstance(s.film_transparent, (bool, np.bool_)):
+        _fail("settings.film_transparent", f"expected true or false, got {s.film_transparent!r}")
     return scene
 
 
@@ -628,6 +639,9 @@ def to_dict_and_arrays(scene: Scene):
             if a is not None:
                 arrays[f"meshes.{i}.{key}"] = a
                 rec[key] = f"meshes.{i}.{key}"
+        for key in ("sensor", "holdout"):
+            if getattr(m, key):
+                rec[key] = True
         meshes.append(rec)
     profiles = []
     for i, pr in enumerate(scene.profiles):
@@ -735,6 +749,8 @@ def load(path) -> Scene:
                 normals=arr(m.get("normals"), f"meshes[{i}].normals"),
                 uvs=arr(m.get("uvs"), f"meshes[{i}].uvs"),
                 corner_uvs=arr(m.get("corner_uvs"), f"meshes[{i}].corner_uvs"),
+                sensor=m.get("sensor", False),
+                holdout=m.get("holdout", False),
             ))
         materials = [record(Material, d, f"materials[{i}]") for i, d in enumerate(doc["materials"])]
         itd = doc.get("ior_tables")

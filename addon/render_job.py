@@ -361,3 +361,4 @@ def render_with_engine(engine, depsgraph):
                 text += " — stopped at the " + ("time limit" if reason == "time_limit" else "noise target")
         engine.update_stats("Spectral GI", text)
         STATE.message = text
+        STATE.engine_stats = stats  # the last engine render's RenderStats (spectral-gi render-blend reports them)

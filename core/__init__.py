@@ -31,6 +31,10 @@ from .material_presets import (glass_preset, glass_preset_names, metal_preset, m
                                wavelength_grid)
 from .scene import IORTable
 from .scene import Medium  # participating media (compendium item 54)
+# photometric light profiles (IES LM-63, EULUMDAT)
+from .io.photometric import PhotometricError, read_profile
+from .io.photometric import preset_profiles as photometric_presets
+from .scene import Profile
 
 __all__ = [
     "constants",
@@ -50,4 +54,5 @@ __all__ = [
     "compare_images", "delta_e_image", "side_by_side", "sRGB_decode",
     "LIGHT_UNITS", "light_photometric", "light_emission_coeffs", "light_spectrum_names",
     "point_light_intensity", "spot_solid_angle", "sun_illuminance", "scene_white_xy",
+    "Profile", "read_profile", "PhotometricError", "photometric_presets",
 ]

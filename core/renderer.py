@@ -94,6 +94,7 @@ class Prepared:
     med_tab: np.ndarray = None  # float64 (2 M, N_LAMBDA): σa, σs rows (1/m); (0, N_LAMBDA) without media
     med_g: np.ndarray = None  # float64 (M,): Henyey–Greenstein g
     cam_medium: int = -1  # the medium around the camera
+    light_prof: np.ndarray = None  # float64: photometric profiles, concatenated (core/kernels/lights.py)
 
 
 def cmf_table(observer="1931"):
@@ -302,6 +303,48 @@ def _scene_radius(v0, v1, v2):
     return max(0.5 * float(np.linalg.norm(hi - lo)), 1e-3)
 
 
+def _profile_table(scene, li, what, geo_row, LG):
+    """A profiled point/spot light: (kernel table, candela at the profile's peak, flux in lm).
+
+    Fills the light's frame into ``geo_row`` (LG_N nadir = its direction, LG_U / LG_V its
+    local +X / +Y) and returns the table laid out as core/kernels/lights.py reads it.
+    profile_mode "file" keeps the profile's candela, "peak" scales its maximum to
+    ``intensity``, "flux" scales ∫ I · spot mask dω to ``flux`` lm.
+    """
+    from .io.photometric import flux as profile_flux
+    from .lightunits import spot_falloff
+
+    pr = scene.profiles[li.profile]
+    n = np.asarray(li.direction, np.float64)
+    n = n / np.linalg.norm(n)
+    u = np.asarray(li.axis_u, np.float64)
+    u = u - (u @ n) * n
+    u /= np.linalg.norm(u)
+    v = np.cross(-n, u)  # local +Y = +Z × +X with +Z = −nadir
+    geo_row[LG.LG_N:LG.LG_N + 3] = n
+    geo_row[LG.LG_U:LG.LG_U + 3] = u
+    geo_row[LG.LG_V:LG.LG_V + 3] = v
+    peak = float(pr.candela.max()) if pr.candela.size else 0.0
+    mask = None
+    if li.kind == C.LIGHT_SPOT:
+        mask = lambda mu: spot_falloff(mu, li.spot_angle, li.spot_blend)  # noqa: E731
+    phi_file = profile_flux(pr, mask)  # lm of the profile as given (spot mask included)
+    if li.profile_mode == "file":
+        k = 1.0
+    elif li.profile_mode == "peak":
+        k = float(li.intensity) / peak if peak > 0 else 0.0
+    else:
+        if not phi_file > 0.0 and li.flux > 0.0:
+            raise SceneError(f"{what}.profile: profile {pr.name!r} emits no light"
+                             + (" inside the spot's cone" if mask is not None else "")
+                             + ", so it cannot be scaled to a flux")
+        k = float(li.flux) / phi_file if phi_file > 0 else 0.0
+    norm = pr.candela / peak if peak > 0 else pr.candela
+    table = np.concatenate([[pr.theta.size, pr.phi.size], np.radians(pr.theta), np.radians(pr.phi),
+                            norm.reshape(-1)])
+    return table, k * peak, k * phi_file
+
+
 def prepare(scene: Scene) -> Prepared:
     validate(scene)
     t0 = time.perf_counter()
@@ -365,6 +408,9 @@ def prepare(scene: Scene) -> Prepared:
     light_two = np.zeros(n_l, np.int32)
     light_vis = np.zeros(n_l, np.int32)
     light_power = np.zeros(n_l)
+    light_geo[:, LG.LG_PROF] = -1.0
+    prof_parts = []
+    prof_len = 0
     scene_radius = _scene_radius(v0, v1, v2)
     for i, li in enumerate(scene.lights):
         what = f"lights[{i}] ({li.name!r})"
@@ -404,6 +450,12 @@ def prepare(scene: Scene) -> Prepared:
                 light_geo[i, LG.LG_SMOOTH] = 1.0 / ((1.0 - ch) * blend) if blend > 0 and ch < 1 else 0.0
                 # ∫ mask dω = 2π ∫_{cos½}^1 mask dt, and smoothstep over its ramp averages 1/2
                 light_power[i] = 2.0 * np.pi * inten * (1.0 - ch) * (1.0 - 0.5 * blend)
+            if li.profile >= 0:
+                table, peak_cd, light_power[i] = _profile_table(scene, li, what, light_geo[i], LG)
+                light_scale[i] = _luminance_scale(shape, cmf, peak_cd / (np.pi * r * r) if r > 0 else peak_cd, what)
+                light_geo[i, LG.LG_PROF] = prof_len
+                prof_parts.append(table)
+                prof_len += table.size
         else:  # sun
             d = np.asarray(li.direction, np.float64)
             light_geo[i, LG.LG_N:LG.LG_N + 3] = -d / np.linalg.norm(d)  # towards the sun
@@ -470,6 +522,7 @@ def prepare(scene: Scene) -> Prepared:
         if world_scale == 0.0:
             world_spec = -1
 
+    light_prof = np.ascontiguousarray(np.concatenate(prof_parts) if prof_parts else np.zeros(1))
     pts = [np.abs(v0).max(initial=0), np.abs(v1).max(initial=0), np.abs(v2).max(initial=0)]
     not_sun = light_kind != C.LIGHT_SUN
     if np.any(not_sun):
@@ -485,7 +538,7 @@ def prepare(scene: Scene) -> Prepared:
                     world_spec, world_scale, world_img, world_dist, world_par, int(world_row), world_emit,
                     camera_vector(scene.camera, scene.settings), filter_distribution(scene.settings),
                     _shading_normals(scene, bvh), spec_alb, scene_scale,
-                    time.perf_counter() - t0, mat_medium, med_tab, med_g, cam_medium)
+                    time.perf_counter() - t0, mat_medium, med_tab, med_g, cam_medium, light_prof)
 
 
 def _rows(prep, film, y0, y1, s0, s1):
@@ -498,7 +551,8 @@ def _rows(prep, film, y0, y1, s0, s1):
                 b.bmin, b.bmax, b.child, b.count, b.axis, b.v0, b.e1, b.e2, prep.tri_mat, prep.tri_emitter,
                 prep.mat_model, prep.mat_p, prep.mat_ra, prep.mat_rb, prep.mat_eta, prep.mat_kappa, prep.mat_ior,
                 prep.ior_tab, prep.mat_emis, prep.mat_emis_scale, prep.mat_emis_two, prep.spec, prep.cmf,
-                prep.light_kind, prep.light_geo, prep.light_spec, prep.light_scale, prep.light_two_sided,
+                prep.light_kind, prep.light_geo, prep.light_prof, prep.light_spec, prep.light_scale,
+                prep.light_two_sided,
                 prep.light_visible, prep.emit_cdf, prep.emit_prob, prep.emit_tri, prep.emit_light,
                 int(prep.world_spec), float(prep.world_scale), prep.world_img, prep.world_dist, prep.world_par,
                 prep.world_row, prep.world_emit, film.spectral, film.aov, prep.tri_nrm, prep.spec_alb, int(st.sampler),

@@ -153,7 +153,14 @@ class Light:
       cd on the axis.
     * LIGHT_SUN: a distant light travelling along ``direction``, giving ``illuminance``
       lux on a surface facing it, with angular diameter ``angle`` rad.
-    ``axis_u``/``axis_v`` are unused by point, spot and sun lights (pass zeros).
+    ``axis_u``/``axis_v`` are unused by point, spot and sun lights (pass zeros), except
+    that a point or spot light with a photometric ``profile`` (index into Scene.profiles)
+    takes its frame from ``direction`` (the profile's nadir, θ = 0: the light's local −Z)
+    and ``axis_u`` (the light's local +X; only its part across ``direction`` counts), with
+    C = 0 towards local −Y and C = 90° towards local −X (Cycles' IES convention, see
+    :class:`Profile`). ``profile_mode`` sets its brightness: "file" the profile's own
+    candela (``intensity`` unused), "peak" the profile scaled to ``intensity`` cd at its
+    maximum, "flux" scaled to a total output of ``flux`` lm (a spot's cone included).
     """
 
     name: str
@@ -172,6 +179,33 @@ class Light:
     spot_blend: float = 0.0  # spot: Blender's spot_blend in [0, 1]
     illuminance: float = 0.0  # sun: lux on a surface facing it
     angle: float = 0.0  # sun: angular diameter, rad
+    profile: int = -1  # point/spot: index into Scene.profiles (IES / EULUMDAT), -1 = none
+    profile_mode: str = "file"  # "file" (its candela), "peak" (max = intensity cd) or "flux" (total = flux lm)
+    flux: float = 0.0  # lm: a profiled light's total output when profile_mode is "flux"
+
+
+PROFILE_MODES = ("file", "peak", "flux")
+
+
+@dataclass
+class Profile:
+    """A photometric (goniometric) profile: luminous intensity in cd over directions in a
+    light's frame, type C photometry as IES LM-63 and EULUMDAT files give it
+    (core/io/photometric.py reads them).
+
+    ``theta``: vertical angles in degrees from the nadir (the light's local −Z), ascending
+    in [0, 180]; the intensity is 0 outside [theta[0], theta[-1]]. ``phi``: C angles in
+    degrees, ascending from 0 to 360 (symmetries already expanded), C = 0 towards the
+    light's local −Y, 90 towards −X, 180 towards +Y, 270 towards +X (C grows clockwise
+    seen from above, as Cycles' IES texture and Radiance's ies2rad read type C data).
+    ``candela``: (len(phi), len(theta)), one row per C plane; bilinear in (θ, C) between.
+    """
+
+    name: str
+    theta: np.ndarray  # float64 (T,), degrees
+    phi: np.ndarray  # float64 (P,), degrees, 0 .. 360
+    candela: np.ndarray  # float64 (P, T), cd
+    source: str = ""  # the file it came from (informative)
 
 
 @dataclass
@@ -238,6 +272,7 @@ class Scene:
     lights: list[Light] = field(default_factory=list)
     ior_tables: IORTable = field(default_factory=IORTable.empty)
     media: list[Medium] = field(default_factory=list)
+    profiles: list[Profile] = field(default_factory=list)
     camera: Camera = field(default_factory=lambda: Camera(np.eye(4)))
     world: World = field(default_factory=World)
     settings: RenderSettings = field(default_factory=RenderSettings)
@@ -412,6 +447,21 @@ def validate(scene: Scene) -> Scene:
         if mesh.uvs is not None:
             _check_array(f"{nm}.uvs", mesh.uvs, np.float32, (n_v, 2))
 
+    n_prof = len(scene.profiles)
+    for i, pr in enumerate(scene.profiles):
+        nm = f"profiles[{i}] ({getattr(pr, 'name', '?')!r})"
+        if not isinstance(pr, Profile):
+            _fail(f"profiles[{i}]", f"expected a Profile, got {type(pr).__name__}")
+        _check_array(f"{nm}.theta", pr.theta, np.float64, (None,))
+        _check_array(f"{nm}.phi", pr.phi, np.float64, (None,))
+        _check_array(f"{nm}.candela", pr.candela, np.float64, (pr.phi.shape[0], pr.theta.shape[0]))
+        if pr.theta.size < 1 or pr.theta[0] < 0.0 or pr.theta[-1] > 180.0 or np.any(np.diff(pr.theta) <= 0):
+            _fail(f"{nm}.theta", "expected ascending angles in [0, 180] degrees")
+        if pr.phi.size < 2 or pr.phi[0] != 0.0 or pr.phi[-1] != 360.0 or np.any(np.diff(pr.phi) <= 0):
+            _fail(f"{nm}.phi", "expected ascending angles from 0 to 360 degrees (symmetries expanded)")
+        if pr.candela.size and pr.candela.min() < 0.0:
+            _fail(f"{nm}.candela", "negative intensity")
+
     for i, li in enumerate(scene.lights):
         nm = f"lights[{i}] ({li.name!r})"
         if isinstance(li.kind, bool) or li.kind not in C.LIGHT_KINDS:
@@ -438,6 +488,22 @@ def validate(scene: Scene) -> Scene:
             if li.spot_angle <= 0.0:
                 _fail(f"{nm}.spot_angle", "must be > 0 (the full cone angle in radians, at most π)")
             _check_number(f"{nm}.spot_blend", li.spot_blend, lo=0.0, hi=1.0)
+        _check_number(f"{nm}.profile", li.profile, lo=-1, integer=True)
+        if li.profile >= 0:
+            if li.kind not in (C.LIGHT_POINT, C.LIGHT_SPOT):
+                _fail(f"{nm}.profile", "only point and spot lights take a photometric profile")
+            if li.profile >= n_prof:
+                _fail(f"{nm}.profile", f"profile index {li.profile} out of range [0, {n_prof})")
+            if li.profile_mode not in PROFILE_MODES:
+                _fail(f"{nm}.profile_mode", f"unknown mode {li.profile_mode!r} (one of {', '.join(PROFILE_MODES)})")
+            _check_number(f"{nm}.flux", li.flux, lo=0.0)
+            d = _check_vec3(f"{nm}.direction", li.direction)
+            u = _check_vec3(f"{nm}.axis_u", li.axis_u)
+            dn = float(np.linalg.norm(d))
+            if not dn > 0.0:
+                _fail(f"{nm}.direction", "a profiled light needs its nadir direction (local −Z), got a zero vector")
+            if not np.linalg.norm(u - (u @ d) * d / (dn * dn)) > 1e-9 * max(1.0, float(np.linalg.norm(u))):
+                _fail(f"{nm}.axis_u", "a profiled light needs its local +X axis, not zero nor along direction")
         if li.kind == C.LIGHT_SUN:
             _check_number(f"{nm}.illuminance", li.illuminance, lo=0.0)
             _check_number(f"{nm}.angle", li.angle, lo=0.0, hi=math.pi)
@@ -535,6 +601,12 @@ def to_dict_and_arrays(scene: Scene):
                 arrays[f"meshes.{i}.{key}"] = a
                 rec[key] = f"meshes.{i}.{key}"
         meshes.append(rec)
+    profiles = []
+    for i, pr in enumerate(scene.profiles):
+        for key in ("theta", "phi", "candela"):
+            arrays[f"profiles.{i}.{key}"] = getattr(pr, key)
+        profiles.append({"name": pr.name, "source": pr.source, "theta": f"profiles.{i}.theta",
+                         "phi": f"profiles.{i}.phi", "candela": f"profiles.{i}.candela"})
     cam = dataclasses.asdict(scene.camera)
     doc = {
         "format": "spectral-gi-scene",
@@ -545,6 +617,7 @@ def to_dict_and_arrays(scene: Scene):
         "ior_tables": {"names": list(scene.ior_tables.names), "values": "ior_tables.values"},
         "lights": [dataclasses.asdict(li) for li in scene.lights],
         "media": [dataclasses.asdict(md) for md in scene.media],
+        "profiles": profiles,
         "meshes": meshes,
         "camera": cam,
         "world": _world_record(scene.world, arrays),
@@ -639,6 +712,10 @@ def load(path) -> Scene:
                                                                  list(itd["names"]))
         lights = [record(Light, d, f"lights[{i}]") for i, d in enumerate(doc["lights"])]
         media = [record(Medium, d, f"media[{i}]") for i, d in enumerate(doc.get("media") or [])]
+        profiles = [Profile(name=str(d["name"]), source=str(d.get("source", "")),
+                            theta=arr(d["theta"], f"profiles[{i}].theta"), phi=arr(d["phi"], f"profiles[{i}].phi"),
+                            candela=arr(d["candela"], f"profiles[{i}].candela"))
+                    for i, d in enumerate(doc.get("profiles") or [])]
         camd = dict(doc["camera"])
         camd["to_world"] = np.asarray(camd.get("to_world"), dtype=np.float64)
         camera = record(Camera, camd, "camera")
@@ -653,6 +730,7 @@ def load(path) -> Scene:
             raise
         raise SceneError(f"scene file: malformed content in {path.name} ({e})") from None
     scene = Scene(meshes=meshes, spectra=spectra, materials=materials, lights=lights, ior_tables=ior_tables,
-                  media=media, camera=camera, world=world, settings=settings, metadata=dict(doc.get("metadata") or {}),
+                  media=media, profiles=profiles, camera=camera, world=world, settings=settings,
+                  metadata=dict(doc.get("metadata") or {}),
                   version=version)
     return validate(scene)

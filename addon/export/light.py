@@ -7,6 +7,13 @@ candela, lux (sun) or cd/m² (area) from a data sheet. Colour
 tint) as a smooth spectrum, or a blackbody, a CIE illuminant or a CIE LED spectrum.
 With a named spectrum and Blender's units, the light counts as white (its luminous
 output is 683 lm per Blender watt) and Blender's colour is not used.
+
+Photometric profile (``Light.spectral_gi.profile``, point and spot lights): an IES or
+EULUMDAT file, or a sample from presets/ies, read by core into ``Scene.profiles``; the
+light's frame is its object's: nadir along local −Z, C0 towards local −Y (Cycles' IES
+convention). Brightness: the profile's candela, or the light's unit (lumens: total output;
+candela: peak; Blender Power: the output the light has without the profile). A missing or
+unreadable file is reported in the export warning and the light renders without it.
 """
 import math
 
@@ -101,6 +108,84 @@ def _photometric(name, kind, unit, value, **kw):
         raise ExportError(f"light {name!r}: {exc}") from None
 
 
+def light_x_axis(matrix):
+    """Unit world direction of the light object's local +X axis (with local −Z, a profile's frame)."""
+    m = np.asarray(matrix, dtype=np.float64)
+    x = m[:3, 0]
+    n = float(np.linalg.norm(x))
+    if not n > 0.0:
+        raise ExportError("a light's matrix has a zero scale")
+    return tuple(float(v) for v in x / n)
+
+
+def profile_file(data):
+    """(label, absolute path) of the light's profile, or None: a preset from presets/ies or a file."""
+    s = getattr(data, "spectral_gi", None)
+    choice = getattr(s, "profile", "NONE") if s is not None else "NONE"
+    if choice == "NONE":
+        return None
+    if choice.startswith("PRESET_"):
+        from ...core import photometric_presets
+
+        stem = choice[len("PRESET_"):]
+        path = photometric_presets().get(stem)
+        return (stem, str(path) if path is not None else stem)
+    raw = str(getattr(s, "profile_path", "") or "")
+    try:
+        import bpy
+
+        path = bpy.path.abspath(raw) if raw else ""
+    except Exception:  # outside Blender (tests of the pure functions)
+        path = raw
+    return (raw, path)
+
+
+def _profile_index(ctx, path):
+    """Index of the profile read from ``path`` in this export (each file read once)."""
+    from ...core import read_profile
+
+    if not hasattr(ctx, "profiles"):
+        ctx.profiles = []
+        ctx.profile_index = {}
+    if path not in ctx.profile_index:
+        ctx.profiles.append(read_profile(path))
+        ctx.profile_index[path] = len(ctx.profiles) - 1
+    return ctx.profile_index[path]
+
+
+def _apply_profile(ctx, data, matrix, name, light, unit, amount):
+    """Give a point or spot ``light`` its photometric profile, if it has one; a file that
+    cannot be read is reported (the light renders without a profile)."""
+    from ...core import PhotometricError, spot_solid_angle
+
+    found = profile_file(data)
+    if found is None:
+        return
+    label, path = found
+    if not path:
+        ctx.skip("light profiles with no file set", name)
+        return
+    try:
+        index = _profile_index(ctx, path)
+    except (PhotometricError, OSError) as exc:
+        ctx.skip("light profiles that could not be read", f"{name}: {exc}")
+        return
+    light.profile = index
+    light.axis_u = light_x_axis(matrix)
+    brightness = getattr(data.spectral_gi, "profile_brightness", "FILE")
+    if brightness == "FILE":
+        light.profile_mode = "file"
+    elif unit == "cd":
+        light.profile_mode = "peak"  # intensity is already the value in cd
+    elif unit == "lm":
+        light.profile_mode = "flux"
+        light.flux = float(amount)
+    else:  # Blender power: the output the light has without the profile
+        light.profile_mode = "flux"
+        cone = spot_solid_angle(light.spot_angle, light.spot_blend) if data.type == "SPOT" else 4.0 * math.pi
+        light.flux = float(light.intensity) * cone
+
+
 def export_light(ctx, obj, matrix, name):
     """A core Light for evaluated light object ``obj`` placed by ``matrix``, or None (recorded as skipped)."""
     from ...core import Light, constants
@@ -135,12 +220,14 @@ def export_light(ctx, obj, matrix, name):
         intensity = _photometric(name, kind, unit, amount, rgb=rgb, spot_angle=spot_angle, spot_blend=spot_blend)
         if kind == "SPOT" and not has_uniform_scale(matrix):
             ctx.note(f"{name}: non-uniform scale of a spot light ignored (its cone stays circular)")
-        return Light(
+        light = Light(
             name=name, kind=constants.LIGHT_SPOT if kind == "SPOT" else constants.LIGHT_POINT,
             position=position, axis_u=zero, axis_v=zero, spectrum=spectrum,
             luminance=sphere_luminance(intensity, radius), two_sided=False, visible=visible,
             radius=radius, intensity=intensity, direction=light_direction(matrix),
             spot_angle=spot_angle, spot_blend=spot_blend)
+        _apply_profile(ctx, data, matrix, name, light, unit, amount)
+        return light
     # SUN
     angle = max(0.0, float(data.angle))
     illuminance = _photometric(name, kind, unit, amount, rgb=rgb)

@@ -1,4 +1,5 @@
-"""Light settings: ``bpy.types.Light.spectral_gi`` — photometric unit and emission spectrum.
+"""Light settings: ``bpy.types.Light.spectral_gi`` — photometric unit, emission spectrum and
+photometric profile (IES / EULUMDAT) of point and spot lights.
 
 By default a light keeps Blender's power and colour, read as Cycles reads them (1
 Blender W = 683 lm). A designer can instead give the data-sheet numbers: "1200 lm,
@@ -29,6 +30,31 @@ SPECTRA = (
 SOURCE_NAMES = {"RGB": "rgb", "BLACKBODY": "blackbody", "ILLUMINANT": "illuminant", "LED": "led"}
 
 _NAMES = {}
+
+# Photometric profile (IES / EULUMDAT) of a point or spot light: none, a file, or a shipped sample.
+PROFILE_BRIGHTNESS = (
+    ("FILE", "Profile's Candela", "The intensities the file gives (absolute photometry); the unit and value "
+     "above are not used"),
+    ("UNIT", "Light's Unit", "Scale the profile's shape by the light's unit: lumens = the total output "
+     "(a spot: inside its cone), candela = the peak intensity, Blender Power = the same output as without "
+     "the profile"),
+)
+
+
+def _profile_presets():
+    try:
+        from ...core import photometric_presets
+
+        return sorted(photometric_presets())
+    except Exception:  # core unavailable: only None and File
+        return []
+
+
+# built once: Blender keeps references to the item strings of an enum
+PROFILE_ITEMS = tuple([("NONE", "None", "No profile: the light emits equally in every direction (a spot: in its cone)"),
+                       ("FILE", "File", "An IES LM-63 (.ies) or EULUMDAT (.ldt) file")]
+                      + [(f"PRESET_{n}", n.replace("_", " ").title(), f"Sample profile presets/ies/{n}")
+                         for n in _profile_presets()])
 
 
 def _names(source):
@@ -73,6 +99,14 @@ class SpectralGILightSettings(bpy.types.PropertyGroup):
                                description="Name of a CIE standard illuminant (A, D65, FL11, …)")
     led: StringProperty(update=_tag, name="LED", default="LED-B3", search=_search("led"),
                         description="Name of a CIE LED illuminant (LED-B1 … LED-V2)")
+    profile: EnumProperty(update=_tag, name="Profile", items=PROFILE_ITEMS, default="NONE",
+                          description="Photometric (goniometric) profile of a point or spot light: its "
+                                      "luminous intensity by direction, C0 towards the light's local −Y, "
+                                      "nadir along its local −Z (as Cycles' IES texture)")
+    profile_path: StringProperty(update=_tag, name="Profile File", subtype="FILE_PATH", default="",
+                                 description="An IES LM-63 (.ies) or EULUMDAT (.ldt) file")
+    profile_brightness: EnumProperty(update=_tag, name="Profile Brightness", items=PROFILE_BRIGHTNESS,
+                                     default="FILE", description="What sets the profiled light's brightness")
 
 
 classes = (SpectralGILightSettings,)

@@ -62,6 +62,15 @@ class SPECTRALGI_PT_light(bpy.types.Panel):
         else:
             col.prop(s, "led")
 
+        # photometric profile (IES / EULUMDAT)
+        if light.type in ("POINT", "SPOT") and hasattr(s, "profile"):
+            col.separator()
+            col.prop(s, "profile")
+            if s.profile == "FILE":
+                col.prop(s, "profile_path", text="File")
+            if s.profile != "NONE":
+                col.prop(s, "profile_brightness", text="Brightness")
+
         # shape
         col.separator()
         if light.type in ("POINT", "SPOT"):

@@ -21,6 +21,16 @@ the argument exceeds 1 (blend 0: a hard edge). We use the direction from the lig
 centre for both strategies (NEE and BSDF hits), so the mask depends on the lit point
 only and both estimators see the same emitter.
 
+Photometric profiles (IES / EULUMDAT, core/io/photometric.py): a point or spot light whose
+``light_geo`` column LG_PROF is ≥ 0 multiplies its emission by the relative intensity
+I(θ, C)/I_peak read from ``prof`` at that offset, θ from the nadir LG_N (the light's local
+−Z) and C = atan2(q·U, q·V) + π with U, V the light's local +X and +Y (LG_U, LG_V): C = 0
+towards local −Y, 90° towards −X, as Cycles' IES texture reads a light's direction. As the
+spot mask, it depends on the direction q from the light's centre to the lit point only,
+so NEE and BSDF hits of a sphere see the same factor. Table layout at offset o:
+[nθ, nC, θ_0..θ_{nθ−1} (rad, ascending), C_0..C_{nC−1} (rad, 0 .. 2π), values (nC × nθ,
+row per C, peak 1)], bilinear in (θ, C); 0 outside [θ_0, θ_{nθ−1}].
+
 Sphere lights are sampled uniformly in the cone they subtend (solid-angle pdf
 1/(2π(1 − cos α)), sin α = r/d), the sun uniformly in its cone. Lights are never
 occluders: rays pick up their emission and go on (as in Cycles).
@@ -38,15 +48,16 @@ from ..sampling.warps import cone_one_minus_cos, sample_uniform_cone
 
 # light_geo row layout
 LG_POS = 0  # 3: centre
-LG_U = 3  # 3: half-axis u (rect/ellipse)
-LG_V = 6  # 3: half-axis v (rect/ellipse)
-LG_N = 9  # 3: unit normal (rect/ellipse); spot axis; direction *towards* the sun
+LG_U = 3  # 3: half-axis u (rect/ellipse); a profiled point/spot's local +X
+LG_V = 6  # 3: half-axis v (rect/ellipse); a profiled point/spot's local +Y
+LG_N = 9  # 3: unit normal (rect/ellipse); spot axis, a profiled point's nadir; direction *towards* the sun
 LG_AREA = 12  # rect/ellipse area, m²
 LG_RADIUS = 13  # point/spot sphere radius, m
 LG_COS_HALF = 14  # spot: cos(spot_size / 2)
 LG_SMOOTH = 15  # spot: 1 / ((1 − cos½) blend), 0 for a hard edge
 LG_SUN_K = 16  # sun: 1 − cos α (α = half the angular diameter), 0 for a delta sun
-LG_SIZE = 17
+LG_PROF = 17  # point/spot: offset of its photometric profile in ``prof``, −1 for none
+LG_SIZE = 18
 
 TWO_PI = 2.0 * math.pi
 
@@ -76,8 +87,65 @@ def spot_mask(geo, li, qx, qy, qz):
     return x * x * (3.0 - 2.0 * x)
 
 
+@inline
+def _bracket(prof, lo, n, x):
+    """Index i in [0, n − 2] with prof[lo + i] ≤ x ≤ prof[lo + i + 1] (ascending nodes)."""
+    a = 0
+    b = n - 1
+    while b - a > 1:
+        m = (a + b) >> 1
+        if prof[lo + m] <= x:
+            a = m
+        else:
+            b = m
+    return a
+
+
 @function
-def sample_light(kind, geo, li, two_sided, px, py, pz, ua, ub):
+def profile_factor(geo, prof, li, qx, qy, qz):
+    """Relative intensity (peak 1) of light ``li``'s profile along the unit direction q from
+    its centre; 1 for a light without a profile."""
+    o = geo[li, LG_PROF]
+    if o < 0.0:
+        return 1.0
+    o = int(o)
+    nt = int(prof[o])
+    nc = int(prof[o + 1])
+    # θ from the nadir LG_N (the light's local −Z, a spot's axis)
+    ct = geo[li, LG_N] * qx + geo[li, LG_N + 1] * qy + geo[li, LG_N + 2] * qz
+    th = math.acos(min(max(ct, -1.0), 1.0))
+    t0 = o + 2
+    if th < prof[t0] or th > prof[t0 + nt - 1]:
+        return 0.0
+    a = geo[li, LG_U] * qx + geo[li, LG_U + 1] * qy + geo[li, LG_U + 2] * qz
+    b = geo[li, LG_V] * qx + geo[li, LG_V + 1] * qy + geo[li, LG_V + 2] * qz
+    c = math.atan2(a, b) + math.pi
+    c0 = t0 + nt
+    c = min(max(c, prof[c0]), prof[c0 + nc - 1])
+    if nt > 1:
+        i = _bracket(prof, t0, nt, th)
+        dt = prof[t0 + i + 1] - prof[t0 + i]
+        ft = (th - prof[t0 + i]) / dt if dt > 0.0 else 0.0
+    else:
+        i = 0
+        ft = 0.0
+    if nc > 1:
+        j = _bracket(prof, c0, nc, c)
+        dc = prof[c0 + j + 1] - prof[c0 + j]
+        fc = (c - prof[c0 + j]) / dc if dc > 0.0 else 0.0
+    else:
+        j = 0
+        fc = 0.0
+    v0 = c0 + nc + j * nt + i
+    i1 = 1 if nt > 1 else 0
+    j1 = nt if nc > 1 else 0
+    lo = prof[v0] * (1.0 - ft) + prof[v0 + i1] * ft
+    hi = prof[v0 + j1] * (1.0 - ft) + prof[v0 + j1 + i1] * ft
+    return lo * (1.0 - fc) + hi * fc
+
+
+@function
+def sample_light(kind, geo, prof, li, two_sided, px, py, pz, ua, ub):
     """Sample a direction from (px, py, pz) towards analytic light ``li``.
 
     Returns (wx, wy, wz, dist, pdf, fac): unit direction, distance to the emitting point
@@ -143,6 +211,10 @@ def sample_light(kind, geo, li, two_sided, px, py, pz, ua, ub):
         fac = spot_mask(geo, li, -cx, -cy, -cz)
         if fac == 0.0:
             return cx, cy, cz, d, 0.0, 0.0
+    if geo[li, LG_PROF] >= 0.0:
+        fac *= profile_factor(geo, prof, li, -cx, -cy, -cz)
+        if fac <= 0.0:
+            return cx, cy, cz, d, 0.0, 0.0
     r = geo[li, LG_RADIUS]
     if r <= 0.0:
         return cx, cy, cz, d, np.inf, fac / d2
@@ -163,7 +235,7 @@ def sample_light(kind, geo, li, two_sided, px, py, pz, ua, ub):
 
 
 @function
-def hit_light(kind, geo, li, two_sided, ox, oy, oz, dx, dy, dz, tmax):
+def hit_light(kind, geo, prof, li, two_sided, ox, oy, oz, dx, dy, dz, tmax):
     """A ray against analytic light ``li`` (not the sun): (t, fac, pdf).
 
     t = inf on a miss (or for a delta light); fac multiplies ``light_scale · spectrum``
@@ -219,6 +291,8 @@ def hit_light(kind, geo, li, two_sided, ox, oy, oz, dx, dy, dz, tmax):
     fac = 1.0
     if kind == C.LIGHT_SPOT:
         fac = spot_mask(geo, li, -cx / d, -cy / d, -cz / d)
+    if fac > 0.0 and geo[li, LG_PROF] >= 0.0:
+        fac *= profile_factor(geo, prof, li, -cx / d, -cy / d, -cz / d)
     k = cone_one_minus_cos(math.asin(min(r / d, 1.0)))
     return t, fac, 1.0 / (TWO_PI * k)
 

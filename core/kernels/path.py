@@ -157,7 +157,8 @@ def _triangle_sample(tp, ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_
 
 @function
 def _emitter_sample(ei, ua, ub, px, py, pz, lam, le, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale, mat_emis_two,
-                    spec, light_kind, light_geo, light_spec, light_scale, light_two_sided, emit_tri, emit_light,
+                    spec, light_kind, light_geo, light_prof, light_spec, light_scale, light_two_sided, emit_tri,
+                    emit_light,
                     world_img, world_dist, world_par, world_row):
     """Emitter ``ei`` sampled from p, as the surface NEE does: (wx, wy, wz, dist, solid-angle
     pdf (inf: delta), fac) and its emitted spectral radiance (or intensity) into ``le``.
@@ -169,7 +170,7 @@ def _emitter_sample(ei, ua, ub, px, py, pz, lam, le, v0, e1, e2, tri_mat, mat_em
             le[i] = l_scale * lookup(spec, l_row, lam[i])
     elif emit_light[ei] >= 0:
         li = emit_light[ei]
-        wx, wy, wz, dist, lpdf, fac = sample_light(light_kind[li], light_geo, li, light_two_sided[li] != 0,
+        wx, wy, wz, dist, lpdf, fac = sample_light(light_kind[li], light_geo, light_prof, li, light_two_sided[li] != 0,
                                                    px, py, pz, ua, ub)
         for i in range(NW):
             le[i] = light_scale[li] * lookup(spec, light_spec[li], lam[i])
@@ -245,7 +246,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 mat_model, mat_p, mat_ra, mat_rb, mat_eta, mat_kappa, mat_ior, ior_tab,
                 mat_emis, mat_emis_scale, mat_emis_two,
                 spec, cmf,
-                light_kind, light_geo, light_spec, light_scale, light_two_sided, light_visible,
+                light_kind, light_geo, light_prof, light_spec, light_scale, light_two_sided, light_visible,
                 emit_cdf, emit_prob, emit_tri, emit_light,
                 world_spec, world_scale, world_img, world_dist, world_par, world_row, world_emit,
                 spectral, aov, tri_nrm, spec_alb, sampler, n_total, mat_medium, med_tab, med_g, cam_medium, nee):
@@ -285,7 +286,9 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
     spectral: (H, W, B) float64 sums of the spectral radiance averaged over B equal bins
     of [LMIN, LMAX] (W/(m² sr nm)); pass a (1, 1, 0) array to skip it.
 
-    light_geo: float64 (L, lights.LG_SIZE), layout in core/kernels/lights.py; light_scale turns
+    light_geo: float64 (L, lights.LG_SIZE), layout in core/kernels/lights.py; light_prof: float64,
+    the photometric profiles of the lights that have one, concatenated (offsets in light_geo
+    column LG_PROF; at least one element); light_scale turns
     a light's spectrum shape into its radiance (or intensity / illuminance for delta lights).
     emit_*: the emitter distribution over emissive triangles (emit_tri ≥ 0, leaf order)
     and analytic lights (emit_light ≥ 0); emit_cdf has E + 1 entries.
@@ -371,7 +374,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                             fac, lpdf = sun_hit(light_geo, li, dx, dy, dz)
                             tl = np.inf
                         else:
-                            tl, fac, lpdf = hit_light(lk, light_geo, li, light_two_sided[li] != 0,
+                            tl, fac, lpdf = hit_light(lk, light_geo, light_prof, li, light_two_sided[li] != 0,
                                                       ox, oy, oz, dx, dy, dz, t_end)
                             if tl == np.inf or tl <= t_lo:
                                 continue
@@ -399,7 +402,8 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                                     ei, rnd(sampler, key, pseed, s, dim + 1, n_total),
                                     rnd(sampler, key, pseed, s, dim + 2, n_total), px, py, pz, lam, le, v0, e1, e2,
                                     tri_mat, mat_emis, mat_emis_scale, mat_emis_two, spec, light_kind, light_geo,
-                                    light_spec, light_scale, light_two_sided, emit_tri, emit_light, world_img,
+                                    light_prof, light_spec, light_scale, light_two_sided, emit_tri, emit_light,
+                                    world_img,
                                     world_dist, world_par, world_row)
                                 media.nee(px, py, pz, dx, dy, dz, g, wx, wy, wz, dist, lpdf, fac, le, emit_prob[ei],
                                           medium, outer, lam, beta, rad, mw, bmin, bmax, child, count, axis, v0, e1,
@@ -559,7 +563,8 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                         else:
                             wx, wy, wz, dist, lpdf, fac = _emitter_sample(
                                 ei, ua, ub, px, py, pz, lam, le, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale,
-                                mat_emis_two, spec, light_kind, light_geo, light_spec, light_scale, light_two_sided,
+                                mat_emis_two, spec, light_kind, light_geo, light_prof, light_spec, light_scale,
+                                light_two_sided,
                                 emit_tri, emit_light, world_img, world_dist, world_par, world_row)
                         cos_n = snx * wx + sny * wy + snz * wz
                         if fac > 0.0 and lpdf > 0.0 and cos_n * (nx * wx + ny * wy + nz * wz) > 0.0:

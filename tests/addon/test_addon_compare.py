@@ -1,6 +1,14 @@
-"""Compare with Cycles: matched settings, side by side, ΔE00 map, report; Cycles settings restored."""
+"""Compare with Cycles: matched settings, side by side, ΔE00 map, report; Cycles settings restored.
+
+The interactive operator is a state machine (``ComparisonRun``): Spectral GI on a worker
+thread, then Cycles as Blender's render job, stepped from a timer. Blender-as-a-module has
+no event loop, so these tests step the machine directly, with Cycles rendered on the spot
+(its end still seen through the render_complete / render_cancel handlers).
+"""
+import importlib
 import json
 import math
+import time
 
 import numpy as np
 import pytest
@@ -29,7 +37,8 @@ def test_compare_with_cycles_on_a_diffuse_scene(ext, bpy, tmp_path):
     s.compare_output_dir = str(tmp_path)
     before = (scene.render.engine, scene.cycles.samples, scene.cycles.use_denoising,
               scene.cycles.use_adaptive_sampling, scene.cycles.diffuse_bounces)
-    assert bpy.ops.spectral_gi.compare_cycles() == {"FINISHED"}
+    # INVOKE (a button press) in background mode falls back to the blocking comparison
+    assert bpy.ops.spectral_gi.compare_cycles("INVOKE_DEFAULT") == {"FINISHED"}
     # every setting the comparison changed is back
     assert (scene.render.engine, scene.cycles.samples, scene.cycles.use_denoising,
             scene.cycles.use_adaptive_sampling, scene.cycles.diffuse_bounces) == before
@@ -111,3 +120,138 @@ def test_point_spot_and_sun_units_match_cycles(ext, bpy, tmp_path, kind):
     b.scene.spectral_gi.compare_output_dir = str(tmp_path)
     assert bpy.ops.spectral_gi.compare_cycles() == {"FINISHED"}
     assert b.scene.spectral_gi.compare_luminance_ratio == pytest.approx(1.0, abs=0.02)
+
+
+def _compare_module(ext):
+    return importlib.import_module(ext.module.__name__ + ".addon.operators.compare")
+
+
+def _step_until_done(run, timeout=600.0):
+    t0 = time.monotonic()
+    while True:
+        state = run.step()
+        if state != "RUNNING":
+            return state
+        assert time.monotonic() - t0 < timeout, f"comparison still running in phase {run.phase}"
+        time.sleep(0.05)
+
+
+def _cycles_snapshot(scene):
+    c = scene.cycles
+    return (scene.render.engine, c.samples, c.use_denoising, c.use_adaptive_sampling, c.diffuse_bounces,
+            c.max_bounces, scene.render.image_settings.file_format)
+
+
+def test_modal_state_machine_runs_both_renders(ext, bpy, tmp_path):
+    """The operator's steps: worker thread, then Cycles seen finishing through the render handlers."""
+    cmp = _compare_module(ext)
+    b = ext.build
+    diffuse_scene(b)
+    scene = b.scene
+    before = _cycles_snapshot(scene)
+    n_handlers = (len(bpy.app.handlers.render_complete), len(bpy.app.handlers.render_cancel))
+    run = cmp.ComparisonRun(scene, bpy.context.evaluated_depsgraph_get(), out_dir=str(tmp_path), use_job=False)
+    run.begin()
+    assert run.phase == "spectral" and run.job.thread is not None
+    t0 = time.monotonic()
+    while run.phase == "spectral":
+        assert run.step() == "RUNNING", run.error
+        assert time.monotonic() - t0 < 600.0
+        time.sleep(0.05)
+    # Cycles' turn: the worker is done, yet Render GI and another comparison stay disabled
+    assert run.phase == "cycles" and not run.job.thread and ext.render_job.busy()
+    assert _step_until_done(run) == "FINISHED", run.error
+    assert not ext.render_job.busy() and not ext.render_job.STATE.running
+    assert _cycles_snapshot(scene) == before
+    assert (len(bpy.app.handlers.render_complete), len(bpy.app.handlers.render_cancel)) == n_handlers
+    s = scene.spectral_gi
+    assert s.compare_valid and s.compare_luminance_ratio == pytest.approx(1.0, abs=0.02)
+    report = json.loads(open(s.compare_report_path, encoding="utf-8").read())
+    assert report["samples"] == 64 and report["luminance_ratio"] == pytest.approx(s.compare_luminance_ratio)
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
+        ["Scene_cycles_comparison.json", "Scene_cycles_delta_e00.exr", "Scene_cycles_side_by_side.exr"])
+
+
+def _previous_result(bpy, s, tmp_path):
+    """A comparison shown before: panel values, an image and a report file that a cancel must keep."""
+    s.compare_valid, s.compare_luminance_ratio, s.compare_delta_e_mean = True, 0.987, 1.5
+    s.compare_report_path = str(tmp_path / "old.json")
+    (tmp_path / "old.json").write_text('{"luminance_ratio": 0.987}')
+    img = bpy.data.images.new("Spectral GI vs Cycles", 4, 2, float_buffer=True)
+    img.pixels.foreach_set(np.full(32, 0.25, np.float32))
+    return img
+
+
+def _assert_previous_result_kept(bpy, s, tmp_path):
+    assert (s.compare_valid, s.compare_luminance_ratio, s.compare_delta_e_mean) == (True, pytest.approx(0.987), 1.5)
+    assert s.compare_report_path == str(tmp_path / "old.json")
+    assert [p.name for p in tmp_path.iterdir()] == ["old.json"]  # no partial images or report
+    img = bpy.data.images["Spectral GI vs Cycles"]
+    px = np.empty(32, np.float32)
+    img.pixels.foreach_get(px)
+    assert tuple(img.size) == (4, 2) and np.all(px == 0.25)
+    assert "Spectral GI ΔE00" not in bpy.data.images
+
+
+def test_cancel_during_the_spectral_render_stops_the_worker_and_writes_nothing(ext, bpy, tmp_path):
+    cmp = _compare_module(ext)
+    b = ext.build
+    diffuse_scene(b, spp=100000)  # far more than it can finish before the cancel
+    scene = b.scene
+    s = scene.spectral_gi
+    _previous_result(bpy, s, tmp_path)
+    before = _cycles_snapshot(scene)
+    run = cmp.ComparisonRun(scene, bpy.context.evaluated_depsgraph_get(), out_dir=str(tmp_path), use_job=False)
+    started = []
+    run_cycles = cmp.CyclesRender.start
+    cmp.CyclesRender.start = lambda self, use_job=False: started.append(1)  # must never be reached
+    try:
+        run.begin()
+        thread = run.job.thread
+        time.sleep(0.5)
+        assert thread.is_alive() and run.step() == "RUNNING"
+        run.request_cancel()  # what Esc does in the modal operator
+        assert _step_until_done(run, timeout=900.0) == "CANCELLED"
+    finally:
+        cmp.CyclesRender.start = run_cycles
+    assert not thread.is_alive() and run.job.finished and not started
+    assert run.job.stats is not None and run.job.stats.cancelled and run.job.stats.spp < 100000
+    assert not ext.render_job.busy() and "cancelled" in ext.render_job.STATE.message
+    assert _cycles_snapshot(scene) == before
+    _assert_previous_result_kept(bpy, s, tmp_path)
+
+
+def test_cancel_during_the_cycles_render_restores_cycles_and_writes_nothing(ext, bpy, tmp_path):
+    """Esc during Cycles stops Blender's render job, which calls render_cancel: the run ends CANCELLED."""
+    cmp = _compare_module(ext)
+    b = ext.build
+    diffuse_scene(b, w=8, h=8, spp=4)
+    scene = b.scene
+    s = scene.spectral_gi
+    _previous_result(bpy, s, tmp_path)
+    before = _cycles_snapshot(scene)
+    seen = {}
+
+    def cancelled_render(self):
+        seen["engine"], seen["samples"] = scene.render.engine, scene.cycles.samples
+        for handler in list(bpy.app.handlers.render_cancel):  # as Blender's render pipeline does
+            if getattr(handler, "__self__", None) is self:
+                handler(scene, None)
+                seen["handler"] = True
+        return True
+
+    launch = cmp.CyclesRender._launch
+    cmp.CyclesRender._launch = cancelled_render
+    try:
+        run = cmp.ComparisonRun(scene, bpy.context.evaluated_depsgraph_get(), out_dir=str(tmp_path),
+                                use_job=False)
+        run.begin()
+        assert _step_until_done(run) == "CANCELLED"
+    finally:
+        cmp.CyclesRender._launch = launch
+    assert seen == {"engine": "CYCLES", "samples": 4, "handler": True}  # Cycles was set up to match, then put back
+    assert run.phase == "done" and "Cycles" in run.error
+    assert _cycles_snapshot(scene) == before
+    assert not any(getattr(h, "__self__", None) is run.cycles for h in bpy.app.handlers.render_cancel)
+    assert not ext.render_job.busy()
+    _assert_previous_result_kept(bpy, s, tmp_path)

@@ -47,6 +47,10 @@ VIS_C = 538.0
 VIS_TA = math.tanh(VIS_B * (LMIN - VIS_C))
 VIS_TB = math.tanh(VIS_B * (LMAX - VIS_C))
 
+# The stratified sampler's Sobol dimensions: the camera (0-4) and two bounces of light and
+# BSDF samples (5 per bounce without mixes or media: light pick, light pair, BSDF pair).
+STRATIFIED_DIMS = 17
+
 # Ray offset against self-intersection: relative to the scene's coordinate magnitude.
 EPS_REL = 1e-5
 
@@ -60,6 +64,17 @@ def qmc_dimension(sampler, index, dim, pseed, n):
     return qmc_sample(sampler, RANDOMIZE_OWEN, index, dim, pseed, n)
 
 
+@function
+def stratified_dimension(index, dim, pseed):
+    """Dimension ``dim`` (not 1, 2) of the stratified sampler: the lens pair 3-4, then pairs
+    2k, 2k + 1 (so the light and BSDF pairs of the first bounces are aligned), each from
+    its own scrambled and shuffled (0, 2)-sequence. A function of its own: inlined at every
+    call site it would multiply the path kernel's compile time."""
+    if dim == 3 or dim == 4:
+        return sobol_pair(index, dim - 3, pseed, 1)
+    return sobol_pair(index, dim & 1, pseed, dim >> 1)
+
+
 @inline
 def rnd(sampler, key, pseed, index, dim, n):
     """The path's sample in dimension ``dim``: the counter RNG for the independent sampler,
@@ -69,15 +84,15 @@ def rnd(sampler, key, pseed, index, dim, n):
         return uniform(key, dim)
     if sampler == C.SAMPLER_STRATIFIED:
         # the pixel-filter pair (dimensions 1, 2) from a digitally shifted Sobol (0, 2)
-        # sequence: stratified positions in the pixel (what makes edges of bright emitters
-        # converge), independent random numbers for everything else
+        # sequence (stratified positions in the pixel: what makes edges of bright emitters
+        # converge), every other pair of the first two bounces from its own scrambled,
+        # shuffled copy; deeper dimensions, which carry little of the image's variance,
+        # from the counter RNG (each stratified dimension costs a function call)
         if dim == 1 or dim == 2:
             return sobol_02(index, dim - 1, shift_32(pseed, dim))
-        # every other pair of dimensions (the lens 3-4, then 2k, 2k + 1: the light and BSDF
-        # pairs of the first bounces are aligned) from its own scrambled, shuffled copy
-        if dim == 3 or dim == 4:
-            return sobol_pair(index, dim - 3, pseed, 1)
-        return sobol_pair(index, dim & 1, pseed, dim >> 1)
+        if dim < STRATIFIED_DIMS:
+            return stratified_dimension(np.int64(index), np.int64(dim), pseed)
+        return uniform(key, dim)
     # np.int64(...): a literal dimension (0 ... 4 at the camera) would otherwise compile
     # one specialisation of qmc_dimension per literal value
     return qmc_dimension(sampler, np.int64(index), np.int64(dim), pseed, np.int64(n))

@@ -114,30 +114,41 @@ def rev32(x):
 
 
 @inline
+def _shuffle_rev(index, h):
+    """The bit-reversed image of ``index`` under the index shuffle (see nested_index)."""
+    x = rev32(np.uint64(index) & _M32)
+    x ^= (x * ((h << _S1) & _M32)) & _M32
+    x ^= (x * ((h >> _S31) & np.uint64(0xFFFFFFFE))) & _M32
+    x ^= (x * _LK2) & _M32
+    return x
+
+
+@inline
 def nested_index(index, h):
     """A permutation of 32-bit sample indices that maps each [0, 2^m) onto itself: on the
     bit-reversed index, x ^= x·c with even c only lets a bit depend on the bits below it
     (above it in the index) and keeps trailing zeros, so high zero bits stay zero. Three
     rounds with multipliers from the hash h."""
-    x = rev32(np.uint64(index) & _M32)
-    x ^= (x * ((h << _S1) & _M32)) & _M32
-    x ^= (x * ((h >> _S31) & np.uint64(0xFFFFFFFE))) & _M32
-    x ^= (x * _LK2) & _M32
-    return rev32(x)
+    return rev32(_shuffle_rev(index, h))
 
 
 @inline
-def owen32(v, seed):
-    """Nested uniform (Owen) scrambling of a 32-bit binary fraction: each digit flipped by a
-    hash of the digits before it (the Laine–Karras hash on the reversed bits, as in Burley,
-    "Practical Hash-based Owen Scrambling", JCGT 2020)."""
-    x = rev32(v)
+def _lk(x, seed):
+    """The Laine–Karras hash on bit-reversed digits: x + seed, then x ^= x·c for four even
+    constants (Burley, "Practical Hash-based Owen Scrambling", JCGT 2020)."""
     x = (x + seed) & _M32
     x ^= (x * _LK1) & _M32
     x ^= (x * _LK2) & _M32
     x ^= (x * _LK3) & _M32
     x ^= (x * _LK4) & _M32
-    return rev32(x)
+    return x
+
+
+@inline
+def owen32(v, seed):
+    """Nested uniform (Owen) scrambling of a 32-bit binary fraction: each digit flipped by a
+    hash of the digits before it."""
+    return rev32(_lk(rev32(v), seed))
 
 
 @inline
@@ -159,8 +170,12 @@ def sobol_bits(index, second):
 @inline
 def sobol_pair(index, comp, pseed, pair):
     """Component ``comp`` (0, 1) of sample ``index`` for dimension pair ``pair`` of the
-    pixel with seed ``pseed``: a float in [0, 1)."""
+    pixel with seed ``pseed``: a float in [0, 1). The value of
+    owen32(sobol_bits(nested_index(index, h), comp), seed), with the bit reversals that
+    cancel left out (the first component's digits are the reversed shuffled index)."""
     h = mix64(np.uint64(pseed) ^ (np.uint64(pair) * _GOLDEN + _M2))
-    j = nested_index(index, h)
-    v = owen32(sobol_bits(j, comp), (h >> _S32) ^ (np.uint64(comp) * np.uint64(0x9E3779B9)))
-    return float(v) * _INV32
+    seed = (h >> _S32) ^ (np.uint64(comp) * np.uint64(0x9E3779B9))
+    j = rev32(_shuffle_rev(index, h))
+    if comp == 0:
+        return float(rev32(_lk(j, seed))) * _INV32
+    return float(owen32(sobol_bits(j, 1), seed)) * _INV32

@@ -113,7 +113,7 @@ def test_pairs_are_uniform_and_uncorrelated_across_pixels():
     """Over many pixel seeds each sample of a pair is uniform, and two pairs of the same
     sample are independent: E[x_a] = 1/2, E[x_a x_b] = 1/4, E[x_a y_a] = 1/4, within 4 sd."""
     n_pix, spp = 4000, 4
-    seeds = [int(mix64(np.uint64(p))) for p in range(n_pix)]
+    seeds = [np.uint64(mix64(np.uint64(p))) for p in range(n_pix)]
     a = np.array([[sobol_pair(s, 0, ps, 3) for s in range(spp)] for ps in seeds])
     ay = np.array([[sobol_pair(s, 1, ps, 3) for s in range(spp)] for ps in seeds])
     b = np.array([[sobol_pair(s, 0, ps, 4) for s in range(spp)] for ps in seeds])

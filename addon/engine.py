@@ -41,6 +41,12 @@ class SpectralGIRenderEngine(bpy.types.RenderEngine):
         self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
         for name, channels, chan_id, kind in enabled_passes(renderlayer):
             self.register_pass(scene, renderlayer, name, channels, chan_id, kind)
+        # the image in an output space other than Rec.709 (Combined stays Blender's scene-linear)
+        settings = getattr(scene, "spectral_gi", None) if scene is not None else None
+        if getattr(settings, "colour_space", "REC709") != "REC709":
+            from .properties.scene import COLOUR_OUTPUT_PASS
+
+            self.register_pass(scene, renderlayer, COLOUR_OUTPUT_PASS, 3, "RGB", "COLOR")
 
 
 def compat_panels():

@@ -245,16 +245,31 @@ def cancel_current(wait=0.0):
 ENGINE_MIN_UPDATE = 0.2  # seconds between partial results, at least (more if developing is slow)
 
 
-def _develop(film, white_balance):
-    """The film's development (with the core's AOVs when it has them), white-balanced if asked."""
-    if white_balance is None:
+def _develop(film, white_balance, colour_space="rec709"):
+    """The film's development (with the core's AOVs when it has them), white-balanced if asked,
+    with ``output`` in ``colour_space``."""
+    if white_balance is None and colour_space == "rec709":
         return film.develop()
     try:
-        return film.develop(white_balance=white_balance)
-    except TypeError:  # an older Film.develop without the argument
+        return film.develop(white_balance=white_balance, colour_space=colour_space)
+    except TypeError:  # an older Film.develop without the arguments
         from ..core import develop
 
         return develop(film.sums, white_balance=white_balance)
+
+
+def colour_output_arrays(developed, arrays):
+    """Add the Colour Output pass (the image in the render's output space, ACEScg or XYZ) to
+    ``arrays``: Combined stays linear Rec.709, which Blender's colour management displays."""
+    from .properties.scene import COLOUR_OUTPUT_PASS
+
+    space = getattr(developed, "colour_space", "rec709")
+    out = getattr(developed, "output", None)
+    if space != "rec709" and out is not None:
+        import numpy as np
+
+        arrays[COLOUR_OUTPUT_PASS] = np.asarray(out, dtype=np.float32)
+    return arrays
 
 
 def engine_threads(scene):
@@ -308,6 +323,7 @@ def render_with_engine(engine, depsgraph):
         white_balance = scene_white_xy(core_scene)
     names = [p[0] for p in enabled_passes(view_layer)]
     transparent = bool(scene.render.film_transparent)
+    colour_space = getattr(core_scene.settings, "colour_space", "rec709")
 
     result = engine.begin_result(0, 0, width, height, layer=view_layer.name)
     layer = result.layers[0]
@@ -325,7 +341,7 @@ def render_with_engine(engine, depsgraph):
         if now - clock["last"] < clock["interval"] or film.spp >= total:
             return  # the last pass is written in full below
         t0 = time.perf_counter()
-        arrays, _ = pass_arrays(_develop(film, white_balance), [], transparent)
+        arrays, _ = pass_arrays(_develop(film, white_balance, colour_space), [], transparent)
         write_result_passes(layer, arrays)
         engine.update_result(result)
         clock["shown"] = film.spp
@@ -340,8 +356,9 @@ def render_with_engine(engine, depsgraph):
         film, stats = render(core_scene, threads=engine_threads(scene), progress=progress,
                              should_cancel=engine.test_break, on_pass=on_pass, status=status)
         if film.spp > 0:
-            arrays, missing = pass_arrays(_develop(film, white_balance), names, transparent)
-            write_result_passes(layer, arrays)
+            developed = _develop(film, white_balance, colour_space)
+            arrays, missing = pass_arrays(developed, names, transparent)
+            write_result_passes(layer, colour_output_arrays(developed, arrays))
             if missing:
                 engine.report({"WARNING"}, "Spectral GI: this build of the renderer does not produce the "
                                            f"{', '.join(missing)} pass(es); they are left black")

@@ -31,6 +31,8 @@ from .material_presets import (glass_preset, glass_preset_names, metal_preset, m
                                wavelength_grid)
 from .scene import IORTable
 from .scene import Medium  # participating media (compendium item 54)
+# tabulated spectrum files (materials' reflectance, lights' emission shape)
+from .io.spectrum_file import SpectrumFileError, load_spectrum_file, spectrum_file_coeffs
 # photometric light profiles (IES LM-63, EULUMDAT)
 from .io.photometric import PhotometricError, read_profile
 from .io.photometric import preset_profiles as photometric_presets
@@ -54,5 +56,6 @@ __all__ = [
     "compare_images", "delta_e_image", "side_by_side", "sRGB_decode",
     "LIGHT_UNITS", "light_photometric", "light_emission_coeffs", "light_spectrum_names",
     "point_light_intensity", "spot_solid_angle", "sun_illuminance", "scene_white_xy",
+    "SpectrumFileError", "load_spectrum_file", "spectrum_file_coeffs",
     "Profile", "read_profile", "PhotometricError", "photometric_presets",
 ]

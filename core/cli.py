@@ -98,6 +98,12 @@ def _parser():
     r.add_argument("--noise-target", type=float,
                    help="stop once the relative standard error of the image's mean luminance is at most this "
                         "(e.g. 0.002; default: the scene's; 0: none)")
+    r.add_argument("--colour-space", "--color-space", dest="colour_space", choices=("rec709", "acescg", "xyz"),
+                   help="colour space of the EXR's R, G, B channels: linear Rec.709, ACEScg (AP1) or CIE XYZ "
+                        "(default: the scene's, rec709); the PNG preview is always sRGB")
+    r.add_argument("--observer", choices=("1931", "1964"),
+                   help="CIE standard observer of the film's XYZ: 1931 (2 degree) or 1964 (10 degree) "
+                        "(default: the scene's, 1931); luminance always uses V(lambda)")
     r.add_argument("--threads", type=_non_negative_int, default=0, help="worker threads (0: all cores)")
     r.add_argument("--out", help="output OpenEXR file (default: cornell.exr or <scene>.exr); "
                                  "the sRGB PNG preview is written beside it")
@@ -199,6 +205,10 @@ def _render(args):
         st.time_limit = args.time_limit
     if args.noise_target is not None:
         st.noise_target = args.noise_target
+    if getattr(args, "colour_space", None):
+        st.colour_space = args.colour_space
+    if getattr(args, "observer", None):
+        st.observer = args.observer
     validate(scene)
     out = Path(args.out or default_out)
     if out.suffix.lower() != ".exr":
@@ -223,7 +233,7 @@ def _render(args):
                              should_cancel=lambda: stop["requested"], spectral_bins=args.spectral_bins)
     finally:
         signal.signal(signal.SIGINT, old)
-    dev = film.develop(white_balance=white_balance)
+    dev = film.develop(white_balance=white_balance, colour_space=st.colour_space)
     attrs = {"spectralgi.spp": str(stats.spp), "spectralgi.seed": str(st.seed),
              "spectralgi.maxDepth": str(st.max_depth)}
     spectral = (film.bin_centres(), film.spectral_radiance()) if film.spectral_bins else None

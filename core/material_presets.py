@@ -33,10 +33,10 @@ def glass_preset_names():
     return library.glass_names()
 
 
-def reflectance_preset(name):
-    """Bounded-spectrum coefficients of a ColorChecker patch (by name or 0-based index)."""
+def reflectance_preset(name, n_coeffs=C.N_COEFFS_DEFAULT):
+    """Bounded-spectrum coefficients (``n_coeffs`` of them) of a ColorChecker patch (by name or 0-based index)."""
     wl = wavelength_grid()
-    return reflectance_from_samples(wl, np.clip(library.colorchecker(name, wl), 0.0, 1.0))
+    return reflectance_from_samples(wl, np.clip(library.colorchecker(name, wl), 0.0, 1.0), n_coeffs)
 
 
 def metal_preset(name):

@@ -98,11 +98,24 @@ class Prepared:
 
 
 def cmf_table(observer="1931"):
-    """CIE colour-matching functions on the renderer's grid: float32 (N_LAMBDA, 3)."""
-    wl, xyz = presets.cmfs(observer)
+    """CIE colour-matching functions on the renderer's grid: float32 (N_LAMBDA, 3) for the
+    CIE 1931 observer; for another observer (N_LAMBDA, 4): its x̄, ȳ, z̄ and V(λ) (the 1931
+    ȳ), which photometry keeps using (see core/film.py and the path kernel)."""
+    from .film import check_observer
+
+    observer = check_observer(observer)
     grid = moments.grid()
-    return np.ascontiguousarray(np.stack([np.interp(grid, wl, xyz[:, k], left=0, right=0) for k in range(3)],
-                                         axis=1), np.float32)
+    wl, xyz = presets.cmfs(observer)
+    cols = [np.interp(grid, wl, xyz[:, k], left=0, right=0) for k in range(3)]
+    if observer != "1931":
+        wl1, xyz1 = presets.cmfs("1931")
+        cols.append(np.interp(grid, wl1, xyz1[:, 1], left=0, right=0))
+    return np.ascontiguousarray(np.stack(cols, axis=1), np.float32)
+
+
+def v_lambda(cmf):
+    """The V(λ) column of a cmf_table: column 3 if present, else ȳ (CIE 1931)."""
+    return cmf[:, 3] if cmf.shape[1] > 3 else cmf[:, 1]
 
 
 def camera_vector(cam, settings=None):
@@ -154,7 +167,7 @@ def filter_distribution(settings):
 
 def _luminance_scale(shape_row, cmf, luminance, what):
     """Factor turning a spectrum shape into spectral radiance W/(m² sr nm) of ``luminance`` cd/m²."""
-    y = float(np.sum(shape_row.astype(np.float64) * cmf[:, 1]) * C.LAMBDA_STEP)
+    y = float(np.sum(shape_row.astype(np.float64) * v_lambda(cmf)) * C.LAMBDA_STEP)
     if luminance == 0.0:
         return 0.0
     if not y > 0.0:
@@ -250,7 +263,7 @@ def world_emission_basis(cmf=None):
     dwl, d65 = presets.illuminant("D65")
     grid = moments.grid()
     rows = np.stack([np.interp(grid, wl, basis[:, k]) for k in range(3)]) * np.interp(grid, dwl, d65)[None, :]
-    y = rows.astype(np.float64) @ cmf[:, 1].astype(np.float64) * C.LAMBDA_STEP
+    y = rows.astype(np.float64) @ v_lambda(cmf).astype(np.float64) * C.LAMBDA_STEP
     rows /= y.sum()
     return rows, y / y.sum()
 
@@ -348,7 +361,7 @@ def _profile_table(scene, li, what, geo_row, LG):
 def prepare(scene: Scene) -> Prepared:
     validate(scene)
     t0 = time.perf_counter()
-    cmf = cmf_table()
+    cmf = cmf_table(scene.settings.observer)
     spec = moments.tabulate(scene.spectra.coeffs, scene.spectra.kind) if len(scene.spectra) else \
         np.zeros((1, C.N_LAMBDA), np.float32)
 
@@ -485,7 +498,7 @@ def prepare(scene: Scene) -> Prepared:
     # the albedo AOV's colour: XYZ of every spectrum row under CIE D65 of Y = 1
     dwl, d65 = presets.illuminant("D65")
     d65 = np.interp(moments.grid(), dwl, d65)
-    cmf64 = cmf.astype(np.float64)
+    cmf64 = cmf[:, :3].astype(np.float64)  # the observer's x̄, ȳ, z̄
     d65 /= float(d65 @ cmf64[:, 1] * C.LAMBDA_STEP)
     spec_alb = np.ascontiguousarray((spec.astype(np.float64) * d65[None, :]) @ cmf64 * C.LAMBDA_STEP)
     n_world = 1 if power_world > 0 else 0
@@ -606,11 +619,13 @@ def kernels_compiled():
 def relative_error(film):
     """Relative standard error of the image's mean luminance, from the film's per-pixel
     sums of Y and Y² (pixels are independent): sqrt(Σ var(pixel mean)) / Σ pixel mean."""
+    from .film import photometric_y_sums
+
     sums = film.sums
     n = sums[..., 3]
     if n.size == 0 or n.min() < 2:
         return float("inf")
-    mean = sums[..., 1] / n
+    mean = photometric_y_sums(sums) / n
     var = np.maximum(sums[..., 4] / n - mean * mean, 0.0) / (n - 1.0)
     total = float(mean.sum())
     se = float(np.sqrt(var.sum()))
@@ -644,12 +659,15 @@ def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_
         if (resume.width, resume.height) != (cam.width, cam.height):
             raise SceneError(f"resume: the film is {resume.width}x{resume.height}, the scene renders "
                              f"{cam.width}x{cam.height}")
+        if getattr(resume, "observer", "1931") != scene.settings.observer:
+            raise SceneError(f"resume: the film was rendered with the CIE {resume.observer} observer, the scene "
+                             f"asks for {scene.settings.observer}")
         if resume.spp > scene.settings.spp:
             raise SceneError(f"resume: the film already has {resume.spp} spp, more than settings.spp = "
                              f"{scene.settings.spp}")
         film = resume.copy()
     else:
-        film = Film(cam.width, cam.height, spectral_bins)
+        film = Film(cam.width, cam.height, spectral_bins, observer=scene.settings.observer)
     total = int(scene.settings.spp)
     t_compile = 0.0
     if not kernels_compiled():
@@ -661,7 +679,7 @@ def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_
         gc_was_on = gc.isenabled()
         gc.disable()
         try:
-            run_pass(prep, Film(1, 1), 0, 1)
+            run_pass(prep, Film(1, 1, observer=scene.settings.observer), 0, 1)
         finally:
             if gc_was_on:
                 gc.enable()

@@ -262,6 +262,8 @@ class RenderSettings:
     time_limit: float = 0.0  # seconds; 0 = none
     noise_target: float = 0.0  # stop when the relative standard error of luminance is below; 0 = none
     next_event: bool = True  # False: the naive reference integrator (BSDF sampling only, no NEE, no MIS)
+    colour_space: str = "rec709"  # output colour space of the image: 'rec709', 'acescg' or 'xyz' (core.film)
+    observer: str = "1931"  # CIE observer of the film's XYZ: '1931' (2°) or '1964' (10°); photometry is V(λ)
 
 
 @dataclass
@@ -557,6 +559,12 @@ def validate(scene: Scene) -> Scene:
     _check_number("settings.noise_target", s.noise_target, lo=0.0, hi=1e6)
     if not isinstance(s.next_event, (bool, np.bool_)):
         _fail("settings.next_event", f"expected true or false, got {s.next_event!r}")
+    from .film import COLOUR_SPACES, OBSERVERS
+
+    if s.colour_space not in COLOUR_SPACES:
+        _fail("settings.colour_space", f"unknown colour space {s.colour_space!r} (one of {', '.join(COLOUR_SPACES)})")
+    if s.observer not in OBSERVERS:
+        _fail("settings.observer", f"unknown observer {s.observer!r} ('1931': CIE 1931 2°, '1964': CIE 1964 10°)")
     return scene
 
 

@@ -10,7 +10,7 @@ from .context import ExportCancelled, ExportContext, ExportError
 from .convert import matrix_to_array
 from .light import export_light
 from .material import export_world_volume
-from .mesh import GEOMETRY_TYPES, HELPER_TYPES, export_mesh
+from .mesh import GEOMETRY_TYPES, HELPER_TYPES, export_mesh, slot_materials
 from .world import export_world
 
 __all__ = ["ExportCancelled", "ExportError", "ExportResult", "export_scene", "render_settings"]
@@ -19,6 +19,8 @@ DEFAULTS = {"samples": 64, "max_bounces": 16, "seed": 0, "use_animated_seed": Fa
             "pixel_filter": "BLACKMAN_HARRIS", "filter_width": 1.5, "time_limit": 0.0, "noise_target": 0.0}
 SAMPLER_TAGS = {"INDEPENDENT": "SAMPLER_INDEPENDENT", "HALTON": "SAMPLER_HALTON", "HAMMERSLEY": "SAMPLER_HAMMERSLEY",
                 "STRATIFIED": "SAMPLER_STRATIFIED"}
+COLOUR_SPACES = {"REC709": "rec709", "ACESCG": "acescg", "XYZ": "xyz"}  # add-on enum → RenderSettings
+OBSERVERS = {"CIE1931": "1931", "CIE1964": "1964"}
 FILTER_TAGS = {"BOX": "FILTER_BOX", "BLACKMAN_HARRIS": "FILTER_BLACKMAN_HARRIS", "GAUSSIAN": "FILTER_GAUSSIAN"}
 
 
@@ -41,11 +43,22 @@ def render_settings(scene):
                           sampler=getattr(constants, SAMPLER_TAGS[get("sampler")]),
                           filter=getattr(constants, FILTER_TAGS[get("pixel_filter")]),
                           filter_width=float(get("filter_width")), time_limit=float(get("time_limit")),
-                          noise_target=float(get("noise_target")))
+                          noise_target=float(get("noise_target")),
+                          colour_space=COLOUR_SPACES[str(getattr(s, "colour_space", "REC709"))],
+                          observer=OBSERVERS[str(getattr(s, "observer", "CIE1931"))])
+
+
+def fourier_order(scene):
+    """Coefficients per spectrum: the scene's Spectral GI Fourier order (the core's default without the add-on)."""
+    from ...core import constants
+
+    s = getattr(scene, "spectral_gi", None)
+    return int(getattr(s, "fourier_order", constants.N_COEFFS_DEFAULT)) if s is not None else \
+        constants.N_COEFFS_DEFAULT
 
 
 def _instance_name(inst, obj):
-    if inst.is_instance and inst.parent is not None:
+    if inst.is_instance and inst.parent is not None and inst.parent.original != obj.original:
         return f"{inst.parent.name}/{obj.name}"
     return obj.name
 
@@ -60,32 +73,45 @@ def export_scene(depsgraph, scene=None, should_cancel=None):
     from ...core import Scene, validate
 
     scene = scene if scene is not None else depsgraph.scene
-    ctx = ExportContext(scene.unit_settings.scale_length, should_cancel)
+    ctx = ExportContext(scene.unit_settings.scale_length, should_cancel, n_coeffs=fourier_order(scene))
     from .camera import export_camera
 
     camera = export_camera(ctx, scene, depsgraph)
     meshes, lights = [], []
     cache = {}
+    surfaced, unsurfaced = set(), []
     for inst in depsgraph.object_instances:
         ctx.check_cancel()
         obj = inst.object
         if not inst.is_instance and (obj.original.hide_render or not inst.show_self):
             continue
+        if inst.is_instance and inst.parent is not None and inst.parent.original.hide_render:
+            continue  # the instances of a hidden object (also the mesh of a hidden curve, text or metaball)
         name = _instance_name(inst, obj)
         kind = obj.type
         matrix = matrix_to_array(inst.matrix_world)
         if kind in GEOMETRY_TYPES:
+            if not isinstance(obj.data, bpy.types.Mesh):
+                # curves, text, metaballs, surfaces: Blender lists their evaluated mesh as an instance of
+                # theirs (a mesh object), exported there as Cycles does; converting this too doubled them
+                unsurfaced.append(obj.original.name)
+                continue
             mesh = export_mesh(ctx, obj, matrix, name, cache if inst.is_instance else None)
             if mesh is not None:
                 meshes.append(mesh)
-            elif kind != "MESH":
-                ctx.skip("objects with no surface", obj.name)
+                surfaced.add(obj.original.name)
+                for mat in slot_materials(obj):
+                    if mat is not None:
+                        ctx.material_user(mat.name, name)
         elif kind == "LIGHT":
             light = export_light(ctx, obj, matrix, name)
             if light is not None:
                 lights.append(light)
         elif kind not in HELPER_TYPES:
             ctx.skip(f"{kind.lower()} objects", obj.name)
+    for obj_name in unsurfaced:
+        if obj_name not in surfaced:
+            ctx.skip("objects with no surface", obj_name)
     ctx.check_cancel()
     world = scene.world.evaluated_get(depsgraph) if scene.world is not None else None
     core_world = export_world(ctx, world)

@@ -20,14 +20,19 @@ class ExportContext:
     warning (see :meth:`warning`).
     """
 
-    def __init__(self, scale_length=1.0, should_cancel=None):
-        from ...core import IORTable, SpectrumTable
+    def __init__(self, scale_length=1.0, should_cancel=None, n_coeffs=None):
+        from ...core import IORTable, SpectrumTable, constants
 
         if not scale_length > 0.0:
             raise ExportError(f"the scene's unit scale must be positive, got {scale_length}")
         self.scale_length = float(scale_length)
         self._should_cancel = should_cancel
-        self.spectra = SpectrumTable.empty()
+        # Fourier order: coefficients per spectrum (the scene's Spectral GI setting)
+        self.n_coeffs = constants.N_COEFFS_DEFAULT if n_coeffs is None else int(n_coeffs)
+        if not constants.N_COEFFS_MIN <= self.n_coeffs <= constants.N_COEFFS_MAX:
+            raise ExportError(f"Fourier order {self.n_coeffs}: must be in [{constants.N_COEFFS_MIN}, "
+                              f"{constants.N_COEFFS_MAX}]")
+        self.spectra = SpectrumTable.empty(self.n_coeffs)
         self.ior_tables = IORTable.empty()  # η(λ), κ(λ) curves of metals and glasses
         self._ior_index = {}
         self.materials = []
@@ -37,6 +42,7 @@ class ExportContext:
         self._spectrum_index = {}
         self.unsupported = {}  # category -> list of names
         self.notes = []  # substitutions made (linked inputs, ignored settings)
+        self.material_users = {}  # material name -> names of the objects rendered with it (for the warning)
 
     # ----------------------------------------------------------------- cancel / warnings
 
@@ -54,14 +60,27 @@ class ExportContext:
         if text not in self.notes:
             self.notes.append(text)
 
+    def material_user(self, material_name, object_name):
+        """Record that object ``object_name`` renders with material ``material_name``."""
+        users = self.material_users.setdefault(material_name, [])
+        if object_name not in users:
+            users.append(object_name)
+
     def warning(self):
-        """One message listing everything not exported or substituted, or None."""
+        """One message listing everything not exported or substituted, or None; the materials it
+        names are followed by the objects that use them."""
         parts = [f"{cat}: {', '.join(repr(n) for n in names)}" for cat, names in self.unsupported.items()]
         text = ""
         if parts:
             text = "Not exported — " + "; ".join(parts)
         if self.notes:
             text = (text + ". " if text else "") + "Approximated — " + "; ".join(self.notes)
+        items = [n for names in self.unsupported.values() for n in names] + self.notes
+        named = [(m, users) for m, users in self.material_users.items()
+                 if any(str(i).startswith((f"{m}/", f"{m}:")) for i in items)]
+        if named:
+            text += ". Materials on objects — " + "; ".join(
+                f"{m!r}: {', '.join(repr(u) for u in users)}" for m, users in named)
         return text or None
 
     # ----------------------------------------------------------------- spectra
@@ -71,7 +90,7 @@ class ExportContext:
 
         key = ("R", tuple(rgb_of(rgb)))
         if key not in self._spectrum_index:
-            self._spectrum_index[key] = self.spectra.add(name, reflectance_from_rgb(key[1]),
+            self._spectrum_index[key] = self.spectra.add(name, reflectance_from_rgb(key[1], self.n_coeffs),
                                                          constants.SPECTRUM_BOUNDED)
         return self._spectrum_index[key]
 
@@ -80,8 +99,41 @@ class ExportContext:
 
         key = ("E", tuple(rgb_of(rgb)))
         if key not in self._spectrum_index:
-            self._spectrum_index[key] = self.spectra.add(name, emission_from_rgb(key[1]),
+            self._spectrum_index[key] = self.spectra.add(name, emission_from_rgb(key[1], self.n_coeffs),
                                                          constants.SPECTRUM_UNBOUNDED)
+        return self._spectrum_index[key]
+
+    def spectrum_file(self, path, kind, owner):
+        """Index of the spectrum read from file ``path`` ('reflectance' or 'emission'; Blender's '//'
+        is relative to the .blend file), added once; None (with the problem reported under ``owner``,
+        an object or material name) if the file cannot be used, so the caller substitutes its colour."""
+        import os
+
+        from ...core import SpectrumFileError, load_spectrum_file
+
+        path = str(path or "")
+        if path.startswith("//"):
+            try:
+                import bpy
+
+                path = bpy.path.abspath(path)
+            except ImportError:
+                pass
+        if not path.strip():
+            self.skip("spectrum files (the colour is used instead)", f"{owner}: no file chosen")
+            return None
+        full = os.path.abspath(path)
+        key = ("F", kind, full)
+        if key not in self._spectrum_index:
+            try:
+                sf = load_spectrum_file(full, kind)
+                coeffs = sf.coeffs(self.n_coeffs)
+            except (SpectrumFileError, ValueError, OSError) as e:
+                self.skip("spectrum files (the colour is used instead)", f"{owner}: {e}")
+                return None
+            for text in sf.notes:
+                self.note(f"{owner}: {text}")
+            self._spectrum_index[key] = self.spectra.add(os.path.basename(full), coeffs, sf.spectrum_kind)
         return self._spectrum_index[key]
 
     def emission_spectrum(self, key, name, build):

@@ -24,7 +24,7 @@ from .convert import (AREA_SHAPES, area_light_geometry, area_light_normalising_a
                       light_rgb)
 
 UNIT_NAMES = {"BLENDER": "blender_W", "LUMEN": "lm", "CANDELA": "cd", "LUX": "lux", "NIT": "cd/m2"}
-SOURCE_NAMES = {"RGB": "rgb", "BLACKBODY": "blackbody", "ILLUMINANT": "illuminant", "LED": "led"}
+SOURCE_NAMES = {"RGB": "rgb", "BLACKBODY": "blackbody", "ILLUMINANT": "illuminant", "LED": "led", "FILE": "file"}
 
 
 # ----------------------------------------------------------------------------- geometry (pure functions)
@@ -76,6 +76,8 @@ def _settings(data):
         return "blender_W", None, "rgb", 6500.0, ""
     source = SOURCE_NAMES.get(s.spectrum, "rgb")
     name = s.illuminant if source == "illuminant" else s.led if source == "led" else ""
+    if source == "file":
+        name = getattr(s, "spectrum_file", "")
     return UNIT_NAMES.get(s.unit, "blender_W"), float(s.value), source, float(s.temperature), name
 
 
@@ -83,6 +85,11 @@ def _spectrum(ctx, name, data, source, temperature, preset):
     """(spectrum index, rgb weight for Blender's units) of the light's emission."""
     from ...core import light_emission_coeffs
 
+    if source == "file":  # a tabulated emission shape; a bad file falls back to the RGB colour (reported)
+        index = ctx.spectrum_file(preset, "emission", f"light {name!r}")
+        if index is not None:
+            return index, (1.0, 1.0, 1.0)
+        source = "rgb"
     if source == "rgb":
         rgb = light_rgb(data.color, getattr(data, "use_temperature", False),
                         getattr(data, "temperature_color", (1.0, 1.0, 1.0)))
@@ -93,7 +100,7 @@ def _spectrum(ctx, name, data, source, temperature, preset):
     label = f"blackbody {temperature:g} K" if source == "blackbody" else preset
     try:
         index = ctx.emission_spectrum(key, label, lambda: light_emission_coeffs(
-            source, temperature=temperature, name=preset))
+            source, temperature=temperature, name=preset, n_coeffs=ctx.n_coeffs))
     except ValueError as exc:
         raise ExportError(f"light {name!r}: {exc}") from None
     return index, (1.0, 1.0, 1.0)

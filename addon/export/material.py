@@ -20,7 +20,8 @@ Node → model (α = roughness², as Cycles):
   conductor: its RGB η, κ interpolated over wavelength); Glass → (GGX_)DIELECTRIC,
   colour tinting reflection and transmission; Refraction →
   the same without reflection (noted); Transparent → a dielectric of IOR 1;
-  Emission → emission; Mix / Add Shader → MAT_MIX / MAT_ADD.
+  Emission → emission; Mix / Add Shader → MAT_MIX / MAT_ADD. A Blackbody node as an emitter's
+  colour gives Planck's spectrum at its temperature (luminance from its colour, Y = 1 as in Cycles).
 
 The Material Output's Volume socket becomes a homogeneous core Medium inside the mesh
 (Material.interior; see "the Volume socket" below); a Volume without a Surface gives a
@@ -129,7 +130,7 @@ def _preset_reflectance(ctx, patch):
     key = ("P", patch)
     index = ctx._spectrum_index
     if key not in index:
-        index[key] = ctx.spectra.add(f"ColorChecker {patch}", reflectance_preset(patch),
+        index[key] = ctx.spectra.add(f"ColorChecker {patch}", reflectance_preset(patch, ctx.n_coeffs),
                                      constants.SPECTRUM_BOUNDED)
     return index[key]
 
@@ -406,7 +407,7 @@ def _shader(ctx, owner, node, depth=0):
         strength = input_value(ctx, owner, node, ("Strength",), "value")
         return None, [(colour, strength)]
     # Unsupported shader: listed in the warning; its colour (if any) stands in as a diffuse colour.
-    ctx.skip("shader nodes", f"{owner}/{node.name}")
+    ctx.skip("shader nodes (a diffuse surface of their colour instead)", f"{owner}/{node.name}")
     colour = node_colour(ctx, owner, node, fallback=None)
     if colour is None:
         from .context import DEFAULT_GREY
@@ -443,6 +444,17 @@ def _emission_fields(ctx, name, emissions):
     rgb, strength = combine_emission(emissions)
     if not strength > 0.0 or not max(rgb) > 0.0:
         return -1, 0.0
+    live = [c for c, s in emissions if s > 0.0 and max(c[:3]) > 0.0]
+    kelvin = [getattr(c, "temperature", None) for c in live]
+    if len(live) == 1 and kelvin[0] is not None:  # a Blackbody node's colour: Planck's spectrum
+        from ...core import light_emission_coeffs
+
+        t = kelvin[0]
+        index = ctx.emission_spectrum(("blackbody", round(t, 6)), f"blackbody {t:g} K", lambda: light_emission_coeffs(
+            "blackbody", temperature=t, n_coeffs=ctx.n_coeffs))
+        return index, float(emission_luminance(rgb, strength))
+    if any(k is not None for k in kelvin):
+        ctx.note(f"{name}: a blackbody emission combined with other emitters is rendered as its colour")
     return ctx.emission(f"{name} emission", rgb), float(emission_luminance(rgb, strength))
 
 
@@ -640,6 +652,10 @@ def _spectrum_colour(ctx, mat, settings, node):
     """Reflectance spectrum index of the override: the node colour uplifted, or a ColorChecker patch."""
     if settings.spectrum == "PRESET":
         return _preset_reflectance(ctx, settings.reflectance_preset)
+    if settings.spectrum == "FILE":  # a tabulated reflectance; a bad file falls back to the colour (reported)
+        index = ctx.spectrum_file(getattr(settings, "spectrum_file", ""), "reflectance", f"material {mat.name!r}")
+        if index is not None:
+            return index
     colour = node_colour(ctx, mat.name, node, fallback=None) if node is not None else None
     if colour is None:
         colour = rgb_of(mat.diffuse_color)

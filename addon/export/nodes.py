@@ -62,12 +62,40 @@ def input_value(ctx, owner, node, names, kind):
             value = src.outputs[0].default_value
         elif kind == "value" and src.type == "VALUE":
             value = src.outputs[0].default_value
+        elif kind == "colour" and src.type == "BLACKBODY":
+            return blackbody_colour(ctx, owner, src)
         else:
             ctx.note(f"{owner}: '{node.name}' input '{sock.name}' is driven by '{src.name}', "
                      f"used its unlinked value")
     if kind == "colour":
         return rgb_of(value)
     return float(value)
+
+
+BLACKBODY_FIT_K = (800.0, 12000.0)  # Cycles' Blackbody node holds its colour outside this range
+
+
+class BlackbodyColour(tuple):
+    """A Blackbody node's colour (an RGB tuple) that remembers its ``temperature`` (K), so that an
+    emitter it feeds gets Planck's spectrum instead of the colour's uplift."""
+
+    temperature = None
+
+
+def blackbody_colour(ctx, owner, node):
+    """The Blackbody node's output as Cycles gives it: Planck's spectrum as linear Rec.709 with
+    luminance 1 (out-of-gamut channels clipped), the temperature held to [800, 12000] K."""
+    from ...core import emission_to_rgb, light_emission_coeffs
+
+    t = constant_input(ctx, owner, node, "Temperature", 1500.0)
+    lo, hi = BLACKBODY_FIT_K
+    if not lo <= t <= hi:
+        ctx.note(f"{owner}: '{node.name}' temperature {t:g} K held to [{lo:g}, {hi:g}] K, as Cycles does")
+        t = min(max(t, lo), hi)
+    rgb = emission_to_rgb(light_emission_coeffs("blackbody", temperature=t, n_coeffs=ctx.n_coeffs), 0.0)[0]
+    colour = BlackbodyColour(float(c) for c in rgb)
+    colour.temperature = float(t)
+    return colour
 
 
 def shader_inputs(node):

@@ -26,8 +26,10 @@ SPECTRA = (
     ("BLACKBODY", "Blackbody", "Planck's law at the given temperature (incandescent, warm-white approximations)"),
     ("ILLUMINANT", "CIE Illuminant", "A CIE standard illuminant (A, D50, D65, FL1–FL12, …)"),
     ("LED", "CIE LED", "A CIE LED illuminant series (LED-B1 … LED-V2)"),
+    ("FILE", "File", "A tabulated emission spectrum file: two columns, wavelength (nm) and relative power, "
+                     "covering 380–780 nm (the shape only: the brightness comes from the unit)"),
 )
-SOURCE_NAMES = {"RGB": "rgb", "BLACKBODY": "blackbody", "ILLUMINANT": "illuminant", "LED": "led"}
+SOURCE_NAMES = {"RGB": "rgb", "BLACKBODY": "blackbody", "ILLUMINANT": "illuminant", "LED": "led", "FILE": "file"}
 
 _NAMES = {}
 
@@ -99,6 +101,10 @@ class SpectralGILightSettings(bpy.types.PropertyGroup):
                                description="Name of a CIE standard illuminant (A, D65, FL11, …)")
     led: StringProperty(update=_tag, name="LED", default="LED-B3", search=_search("led"),
                         description="Name of a CIE LED illuminant (LED-B1 … LED-V2)")
+    spectrum_file: StringProperty(
+        update=_tag, name="Spectrum File", default="", subtype="FILE_PATH",
+        description="Tabulated emission spectrum: CSV or whitespace-separated wavelength (nm), relative power "
+                    "lines, optional header; a bad file is reported and the light's RGB colour used")
     profile: EnumProperty(update=_tag, name="Profile", items=PROFILE_ITEMS, default="NONE",
                           description="Photometric (goniometric) profile of a point or spot light: its "
                                       "luminous intensity by direction, C0 towards the light's local −Y, "

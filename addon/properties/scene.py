@@ -21,6 +21,20 @@ WHITE_BALANCE = (
      "white balance would. XYZ, Luminance and Lab are never adapted"),
 )
 
+COLOUR_SPACES = (
+    ("REC709", "Linear Rec.709", "Blender's scene-linear space (sRGB primaries, D65): the Combined pass"),
+    ("ACESCG", "ACEScg", "ACES AP1 primaries, linear, ACES white (D65 adapted with Bradford): written to the "
+                         "Colour Output pass and to EXR files; Combined stays Rec.709 for Blender's display"),
+    ("XYZ", "CIE XYZ", "The film's CIE XYZ (of the chosen observer), unchanged: written to the Colour Output "
+                       "pass and to EXR files; Combined stays Rec.709 for Blender's display"),
+)
+OBSERVERS = (
+    ("CIE1931", "CIE 1931 2°", "CIE 1931 2° standard observer (the colorimetric default)"),
+    ("CIE1964", "CIE 1964 10°", "CIE 1964 10° standard observer for the film's XYZ and colours; luminance, "
+                                "lux and the noise target still use V(λ) (the 1931 ȳ)"),
+)
+COLOUR_OUTPUT_PASS = "Colour Output"  # render pass holding the image in an output space other than Rec.709
+
 
 class SpectralGISceneSettings(bpy.types.PropertyGroup):
     """Render settings of the Spectral GI path tracer, stored in the scene."""
@@ -81,6 +95,22 @@ class SpectralGISceneSettings(bpy.types.PropertyGroup):
     white_balance: EnumProperty(
         name="White Balance", items=WHITE_BALANCE, default="NONE",
         description="White balance of the Combined (RGB) pass",
+    )
+    colour_space: EnumProperty(
+        name="Colour Output", items=COLOUR_SPACES, default="REC709",
+        description="Colour space of the rendered image: Combined is always linear Rec.709 (what Blender "
+                    "displays); ACEScg or XYZ add the Colour Output pass in that space",
+    )
+    observer: EnumProperty(
+        name="Observer", items=OBSERVERS, default="CIE1931",
+        description="CIE standard observer whose colour-matching functions give the film's XYZ",
+    )
+    fourier_order: IntProperty(
+        name="Fourier Order",
+        description="Fourier (trigonometric-moment) coefficients per spectrum (a count) when colours are "
+                    "uplifted and spectra fitted: more follow measured spectra more closely, at some memory "
+                    "and speed cost",
+        default=12, min=3, max=16,
     )
 
     # ------------------------------------------------------------------ Cycles comparison (last result)

@@ -59,6 +59,8 @@ class SPECTRALGI_PT_light(bpy.types.Panel):
             col.prop(s, "temperature")
         elif s.spectrum == "ILLUMINANT":
             col.prop(s, "illuminant")
+        elif s.spectrum == "FILE":
+            col.prop(s, "spectrum_file")
         else:
             col.prop(s, "led")
 

@@ -39,6 +39,10 @@ def draw_settings(layout, settings):
             col.prop(settings, "spectrum")
             if settings.spectrum == "PRESET":
                 col.prop(settings, PRESET_PROPERTY.get(model, "reflectance_preset"))
+            elif settings.spectrum == "FILE":
+                col.prop(settings, "spectrum_file")
+                if model in PRESET_PROPERTY:
+                    col.label(text="Files are reflectances: this model uses the node colour", icon="INFO")
         elif name == "lobes":
             for k in range(1, settings.lobe_count + 1):
                 col.prop(settings, f"lobe_{k}")

@@ -118,6 +118,17 @@ class SPECTRALGI_PT_film(SpectralGIEnginePanel, bpy.types.Panel):
         col.prop(s, "white_balance")
         col.prop(context.scene.render, "film_transparent", text="Transparent")
         col.label(text="Combined: linear Rec.709; RGB 1 = 683 cd/m²", icon="INFO")
+        draw_colour_settings(col, s)
+
+
+def draw_colour_settings(col, s):
+    """Colour output, observer and Fourier order (also used by tests with a mock layout)."""
+    col.separator()
+    col.prop(s, "colour_space")
+    if getattr(s, "colour_space", "REC709") != "REC709":
+        col.label(text="Written to the Colour Output pass and EXR files", icon="INFO")
+    col.prop(s, "observer")
+    col.prop(s, "fourier_order")
 
 
 class SPECTRALGI_PT_passes(bpy.types.Panel):

@@ -1,9 +1,14 @@
 """OpenEXR output (OpenEXR 3.x Python bindings), written atomically.
 
 Channels of a render:
-* ``R, G, B``            linear Rec.709 (Blender's scene-linear); RGB (1,1,1) is 683 cd/m²
-                         (the standard ``whiteLuminance`` attribute says so)
-* ``XYZ.X, XYZ.Y, XYZ.Z`` CIE 1931 XYZ on the same scale (Y = 1 is 683 cd/m²)
+* ``R, G, B``            the developed film's colour output (Developed.output): linear
+                         Rec.709 (Blender's scene-linear, the default), ACEScg (AP1) or CIE
+                         XYZ; the standard ``chromaticities`` attribute names its primaries
+                         and white (for XYZ the OpenEXR convention (1,0), (0,1), (0,0),
+                         (1/3,1/3)), ``spectralgi.colourSpace`` its name; RGB (1,1,1) is
+                         683 cd/m² (the standard ``whiteLuminance`` attribute says so)
+* ``XYZ.X, XYZ.Y, XYZ.Z`` CIE XYZ of the render's observer (``spectralgi.observer``: CIE
+                         1931 2° by default) on the same scale (Y = 1 is 683 cd/m²)
 * ``Luminance.Y``        absolute luminance, cd/m²
 * ``Variance.Y``         variance of the pixel's mean luminance, (cd/m²)²
 * ``xyY.x, xyY.y, xyY.Y`` chromaticity and luminance (cd/m²)
@@ -74,8 +79,10 @@ def write_render(path, developed, attributes=None, spectral=None):
     channels of the Fichet et al. 2021 layout (spectral radiance, W/(m² sr nm)).
     """
     from .. import constants as C
+    from ..film import CHROMATICITIES
 
-    rgb = developed.rgb
+    space = getattr(developed, "colour_space", "rec709")
+    rgb = developed.output if getattr(developed, "output", None) is not None else developed.rgb
     xyz = developed.XYZ
     var = np.where(np.isfinite(developed.variance), developed.variance, -1.0)
     channels = {
@@ -91,7 +98,11 @@ def write_render(path, developed, attributes=None, spectral=None):
                 channels[f"{layer}.{nm}"] = arr[..., k]
     attrs = {
         "whiteLuminance": float(C.K_M),
-        "chromaticities": (0.64, 0.33, 0.30, 0.60, 0.15, 0.06, 0.3127, 0.3290),
+        "chromaticities": tuple(float(v) for v in CHROMATICITIES[space]),
+        "spectralgi.colourSpace": {"rec709": "linear Rec.709", "acescg": "ACEScg (AP1, linear)",
+                                   "xyz": "CIE XYZ"}[space],
+        "spectralgi.observer": {"1931": "CIE 1931 2 degree", "1964": "CIE 1964 10 degree"}[
+            getattr(developed, "observer", "1931")],
         "software": "spectral-gi",
         "spectralgi.referenceWhite": f"CIE D65 (x={developed.white_xy[0]}, y={developed.white_xy[1]}), "
                                      f"{developed.white_luminance:g} cd/m^2 (L* = 100)",

@@ -267,6 +267,10 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 spectral, aov, tri_nrm, spec_alb, sampler, n_total, mat_medium, med_tab, med_g, cam_medium, nee):
     """Add samples s0 .. s1-1 of every pixel of rows y0 .. y1-1 to ``film`` (H, W, 5) float64.
 
+    cmf: (N_LAMBDA, 3) x̄, ȳ, z̄ of the observer, or (N_LAMBDA, 4) with V(λ) in column 3 when
+    the observer is not CIE 1931: then ``film`` has a 6th channel, the V-weighted Y, and
+    channel 4 sums its square (photometric quantities do not depend on the observer).
+
     A serial kernel that releases the GIL: the renderer runs blocks of rows on a pool of
     Python threads (compiling a prange kernel takes four times as long, and numba's
     threading layers abort the process on concurrent launches). Rows never overlap, so
@@ -324,6 +328,9 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
     do_nee = nee != 0 and n_emit > 0
     eps = EPS_REL * scene_scale
     has_media = med_tab.shape[0] > 0
+    # a 4th cmf column is V(λ) (an observer other than CIE 1931): the film's channel 5 sums
+    # the photometric Y and channel 4 its square; else Y is photometric (5 channels)
+    photometric = cmf.shape[1] > 3 and film.shape[2] > 5
     for y in range(y0, y1):
         stack = np.empty(STACK_SIZE, np.int32)
         lam = np.empty(NW)
@@ -662,12 +669,15 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 X = 0.0
                 Y = 0.0
                 Z = 0.0
+                V = 0.0
                 for i in range(NW):
                     if pdf_lam[i] > 0.0:
                         v = rad[i] / (pdf_lam[i] * NW)
                         X += v * lookup_cmf(cmf, 0, lam[i])
                         Y += v * lookup_cmf(cmf, 1, lam[i])
                         Z += v * lookup_cmf(cmf, 2, lam[i])
+                        if photometric:
+                            V += v * lookup_cmf(cmf, 3, lam[i])
                         if n_bins > 0:
                             b = int((lam[i] - LMIN) / bin_width)
                             if b >= n_bins:
@@ -677,7 +687,11 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 film[y, x, 1] += Y
                 film[y, x, 2] += Z
                 film[y, x, 3] += 1.0
-                film[y, x, 4] += Y * Y
+                if photometric:
+                    film[y, x, 4] += V * V
+                    film[y, x, 5] += V
+                else:
+                    film[y, x, 4] += Y * Y
                 aov[y, x, 0] += aX
                 aov[y, x, 1] += aY
                 aov[y, x, 2] += aZ

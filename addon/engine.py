@@ -36,7 +36,7 @@ class SpectralGIRenderEngine(bpy.types.RenderEngine):
             self.report({"ERROR"}, f"Spectral GI: {type(exc).__name__}: {exc}")
 
     def update_render_passes(self, scene=None, renderlayer=None):
-        from .imageio import enabled_passes
+        from .imageio import ILLUMINANCE_PASS, enabled_passes
 
         self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
         for name, channels, chan_id, kind in enabled_passes(renderlayer):
@@ -47,6 +47,14 @@ class SpectralGIRenderEngine(bpy.types.RenderEngine):
             from .properties.scene import COLOUR_OUTPUT_PASS
 
             self.register_pass(scene, renderlayer, COLOUR_OUTPUT_PASS, 3, "RGB", "COLOR")
+        if sensors_enabled(scene):
+            self.register_pass(scene, renderlayer, *ILLUMINANCE_PASS)
+
+
+def sensors_enabled(scene):
+    """True when the scene asks for the Illuminance pass (Render properties > Sensors)."""
+    settings = getattr(scene, "spectral_gi", None) if scene is not None else None
+    return bool(getattr(settings, "use_sensors", False))
 
 
 def compat_panels():

@@ -79,11 +79,12 @@ def enabled_passes(view_layer):
 def pass_arrays(developed, names, transparent=False):
     """{pass name: (H, W, C) float32 array, rows top-to-bottom} for Combined and the passes in ``names``.
 
-    Combined is linear Rec.709 with alpha 1; with ``transparent`` (Blender's Film >
-    Transparent) pixels whose camera ray hit nothing (no finite first-hit depth) get alpha
-    0 and black, as a premultiplied image (a pixel's coverage is that of its first hits,
-    not filtered). A pass whose data the core's development does not provide (an older
-    core) is filled with zeros and listed in the second return value.
+    Combined is linear Rec.709 with the core's alpha (``developed.alpha``: the fraction of
+    samples that neither saw a holdout nor, with Film > Transparent, missed everything),
+    premultiplied as Cycles' (transparent samples carry no radiance). Without a core alpha
+    (an older core) alpha is 1, or with ``transparent`` 0 and black where no camera ray hit
+    anything. A pass whose data the core's development does not provide (an older core) is
+    filled with zeros and listed in the second return value.
     """
     import numpy as np
 
@@ -94,7 +95,10 @@ def pass_arrays(developed, names, transparent=False):
     combined[..., :3] = rgb
     combined[..., 3] = 1.0
     depth = getattr(developed, "depth", None)
-    if transparent and depth is not None:
+    alpha = getattr(developed, "alpha", None)
+    if alpha is not None:
+        combined[..., 3] = np.asarray(alpha).reshape(h, w)
+    elif transparent and depth is not None:
         hit = np.isfinite(np.asarray(depth).reshape(h, w))
         combined[~hit] = 0.0
     out["Combined"] = combined
@@ -112,6 +116,17 @@ def pass_arrays(developed, names, transparent=False):
             a = np.where(np.isfinite(a), a, np.float32(NO_HIT_DEPTH)).astype(np.float32)
         out[name] = a
     return out, missing
+
+
+ILLUMINANCE_PASS = ("Illuminance", 1, "X", "VALUE")  # lux on the sensor objects; 0 elsewhere
+
+
+def illuminance_pass(lux):
+    """(H, W, 1) float32 of the core's lux image (NaN where no sensor was seen → 0)."""
+    import numpy as np
+
+    a = np.asarray(lux, dtype=np.float64)
+    return np.where(np.isfinite(a), a, 0.0).astype(np.float32)[..., None]
 
 
 def rows_bottom_up(a):

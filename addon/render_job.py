@@ -26,6 +26,7 @@ class JobState:
         self.started = 0.0
         self.cancelling = False
         self.message = ""  # outcome of the last render
+        self.illuminance = None  # {"Em", "Emin", "Emax", "U0", "pixels"} of the last sensor render, lux
 
     def begin(self, total):
         self.running = True
@@ -284,18 +285,50 @@ def engine_threads(scene):
     return None
 
 
+def sensor_report(stats):
+    """One line of the sensor statistics (lux)."""
+    if not stats.get("pixels"):
+        return "Sensors: no sensor surface in view"
+    return (f"Sensors: Em {stats['Em']:.4g} lx, Emin {stats['Emin']:.4g} lx, Emax {stats['Emax']:.4g} lx, "
+            f"U0 {stats['U0']:.3f} ({stats['pixels']} px)")
+
+
+def _render_sensors(engine, core_scene, layer, threads):
+    """The measuring render of the sensor objects into the Illuminance pass; statistics into STATE."""
+    from ..core import has_sensors, render_illuminance
+    from .imageio import illuminance_pass, write_result_passes
+
+    STATE.illuminance = None
+    if not has_sensors(core_scene):
+        engine.report({"WARNING"}, "Spectral GI: Sensors is on but no rendered object is an Illuminance Sensor "
+                                   "(Object properties); the Illuminance pass is left black")
+        return
+
+    def progress(done, total_spp, rate):
+        engine.update_progress(min(1.0, done / max(total_spp, 1)))
+        engine.update_stats("Spectral GI", f"Illuminance: sample {done}/{total_spp}")
+
+    res = render_illuminance(core_scene, threads=threads, progress=progress, should_cancel=engine.test_break,
+                             status=lambda text: engine.update_stats("Spectral GI", f"Illuminance: {text}"))
+    write_result_passes(layer, {"Illuminance": illuminance_pass(res.image.lux)})
+    STATE.illuminance = res.stats.as_dict()
+    engine.report({"INFO"}, "Spectral GI: " + sensor_report(STATE.illuminance))
+
+
 def render_with_engine(engine, depsgraph):
     """Export the depsgraph's scene and render it into ``engine``'s render result, progressively.
 
     Partial results after each pass (throttled), ``test_break()`` cancels after the current
     pass and keeps what was rendered; errors are reported, never raised.
     """
+    from .engine import sensors_enabled
     from .export import ExportCancelled, export_scene
     from .imageio import enabled_passes, pass_arrays, write_result_passes
 
     scene = depsgraph.scene
     view_layer = depsgraph.view_layer
     settings = getattr(scene, "spectral_gi", None)
+    STATE.illuminance = None
     engine.update_stats("Spectral GI", "Exporting scene")
     try:
         exported = export_scene(depsgraph, scene, should_cancel=engine.test_break)
@@ -362,6 +395,8 @@ def render_with_engine(engine, depsgraph):
             if missing:
                 engine.report({"WARNING"}, "Spectral GI: this build of the renderer does not produce the "
                                            f"{', '.join(missing)} pass(es); they are left black")
+            if sensors_enabled(scene) and not stats.cancelled:
+                _render_sensors(engine, core_scene, layer, engine_threads(scene))
     except Exception as exc:  # a failure in the renderer: report it, keep Blender alive
         traceback.print_exc()
         engine.report({"ERROR"}, f"Spectral GI: render failed: {type(exc).__name__}: {exc}")
@@ -377,5 +412,7 @@ def render_with_engine(engine, depsgraph):
             if reason in ("time_limit", "noise_target"):
                 text += " — stopped at the " + ("time limit" if reason == "time_limit" else "noise target")
         engine.update_stats("Spectral GI", text)
+        if STATE.illuminance is not None:
+            text += " | " + sensor_report(STATE.illuminance)
         STATE.message = text
         STATE.engine_stats = stats  # the last engine render's RenderStats (spectral-gi render-blend reports them)

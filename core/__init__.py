@@ -37,6 +37,7 @@ from .io.spectrum_file import SpectrumFileError, load_spectrum_file, spectrum_fi
 from .io.photometric import PhotometricError, read_profile
 from .io.photometric import preset_profiles as photometric_presets
 from .scene import Profile
+from .sensors import has_sensors, illuminance_image, illuminance_stats, render_illuminance  # lux on sensor meshes
 
 __all__ = [
     "constants",
@@ -58,4 +59,5 @@ __all__ = [
     "point_light_intensity", "spot_solid_angle", "sun_illuminance", "scene_white_xy",
     "SpectrumFileError", "load_spectrum_file", "spectrum_file_coeffs",
     "Profile", "read_profile", "PhotometricError", "photometric_presets",
+    "render_illuminance", "illuminance_stats", "illuminance_image", "has_sensors",
 ]

@@ -95,9 +95,9 @@ def XYZ_to_output(XYZ, colour_space="rec709", observer="1931"):
     return XYZ_to_RGB(XYZ, "ACEScg", illuminant=np.array(D65_XY), chromatic_adaptation_transform="Bradford")
 
 
-AOV_CHANNELS = 8  # albedo XYZ, normal xyz, depth sum, number of samples that hit
+AOV_CHANNELS = 9  # albedo XYZ, normal xyz, depth sum, number of samples that hit, transparent samples
 FILM_FORMAT = "spectral-gi-film"
-FILM_VERSION = 1
+FILM_VERSION = 2  # 2: the AOVs gained the transparent-sample count (version 1 films load as opaque)
 
 
 class Film:
@@ -163,9 +163,12 @@ class Film:
                 data = {k: z[k] for k in z.files}
         except Exception as e:  # OSError, zipfile.BadZipFile, ValueError
             raise ValueError(f"film {path}: cannot read ({e})") from None
-        if str(data.get("format", "")) != FILM_FORMAT or int(data.get("version", -1)) != FILM_VERSION:
-            raise ValueError(f"film {path}: not a spectral-gi film of version {FILM_VERSION}")
+        version = int(data.get("version", -1))
+        if str(data.get("format", "")) != FILM_FORMAT or version not in (1, FILM_VERSION):
+            raise ValueError(f"film {path}: not a spectral-gi film of version 1 or {FILM_VERSION}")
         sums, spectral, aov = data["sums"], data["spectral"], data["aov"]
+        if version == 1 and aov.ndim == 3 and aov.shape[2] == AOV_CHANNELS - 1:
+            aov = np.concatenate([aov, np.zeros(aov.shape[:2] + (1,))], axis=2)  # no transparent samples
         try:  # films written before the observer setting are CIE 1931
             observer = check_observer(str(data.get("observer", "1931")))
         except ValueError as e:
@@ -196,6 +199,7 @@ class Developed:
     albedo: np.ndarray = None  # (H, W, 3) linear Rec.709 reflectance of the first non-delta hit (under D65)
     normal: np.ndarray = None  # (H, W, 3) mean world shading normal of the first hit, facing the camera
     depth: np.ndarray = None  # (H, W) mean camera-ray distance to the first hit (m), inf where nothing was hit
+    alpha: np.ndarray = None  # (H, W) film alpha: the fraction of samples not left transparent (holdout, transparent film)
     output: np.ndarray = None  # (H, W, 3) the image in ``colour_space`` (white-balanced as rgb, except xyz)
     colour_space: str = "rec709"  # 'rec709', 'acescg' or 'xyz' (see core.film)
     observer: str = "1931"  # CIE observer of XYZ (and of xyY, Lab, Luv): '1931' (2°) or '1964' (10°)
@@ -210,7 +214,10 @@ def develop(sums, white_luminance=C.K_M, white_balance=None, aov=None, colour_sp
     only ``rgb``) is adapted from that white to D65 with Bradford's transform, as a
     camera's white balance would; XYZ, xyY, Lab and Luv stay unadapted.
     aov: the film's AOV sums (Film.aov); then ``albedo``, ``normal`` (sums over the sample
-    count) and ``depth`` (over the samples that hit; inf if none did) are filled in.
+    count), ``depth`` (over the samples that hit; inf if none did) and ``alpha`` (1 minus
+    the fraction of samples that saw a holdout or, with a transparent film, nothing; 0
+    where the pixel has no samples) are filled in. ``XYZ``/``rgb`` are then premultiplied
+    by alpha, as Blender's Combined pass: transparent samples carry no radiance.
     colour_space: 'rec709' (default), 'acescg' or 'xyz': the space of ``output`` (``rgb``
     is always linear Rec.709, what Blender displays).
     observer: the film's CIE observer ('1931' or '1964'; None: 1931 for a 5-channel film,
@@ -243,7 +250,7 @@ def develop(sums, white_luminance=C.K_M, white_balance=None, aov=None, colour_sp
     scale = C.K_M / float(white_luminance)  # film units → units of the reference white
     xyY = XYZ_to_xyY(XYZ, illuminant=np.array(white_xy))
     xyY[..., 2] *= C.K_M
-    albedo = normal = depth = None
+    albedo = normal = depth = alpha = None
     if aov is not None:
         albedo = XYZ_to_output(aov[..., 0:3] / safe[..., None], "rec709", observer)
         albedo[n == 0] = 0.0
@@ -251,6 +258,8 @@ def develop(sums, white_luminance=C.K_M, white_balance=None, aov=None, colour_sp
         hits = aov[..., 7]
         depth = np.full(hits.shape, np.inf)
         np.divide(aov[..., 6], hits, out=depth, where=hits > 0)
+        if aov.shape[2] > 8:
+            alpha = np.where(n > 0, 1.0 - aov[..., 8] / safe, 0.0)
     rgb = XYZ_to_output(rgb_xyz, "rec709", observer)
     if colour_space == "rec709":
         output = rgb
@@ -260,4 +269,4 @@ def develop(sums, white_luminance=C.K_M, white_balance=None, aov=None, colour_sp
                      variance=variance, count=n.copy(), xyY=xyY,
                      Lab=XYZ_to_Lab(XYZ * scale, np.array(white_xy)), Luv=XYZ_to_Luv(XYZ * scale, np.array(white_xy)),
                      white_luminance=float(white_luminance), white_xy=white_xy, albedo=albedo, normal=normal,
-                     depth=depth, output=output, colour_space=colour_space, observer=observer)
+                     depth=depth, alpha=alpha, output=output, colour_space=colour_space, observer=observer)

@@ -22,7 +22,7 @@ from . import constants as C
 from . import presets
 from .accel import build as build_bvh
 from .film import Film
-from .scene import Scene, SceneError, validate
+from .scene import Material, Scene, SceneError, validate
 from .spectra import moments
 
 def _process_lock():
@@ -95,6 +95,9 @@ class Prepared:
     med_g: np.ndarray = None  # float64 (M,): Henyey–Greenstein g
     cam_medium: int = -1  # the medium around the camera
     light_prof: np.ndarray = None  # float64: photometric profiles, concatenated (core/kernels/lights.py)
+    tri_flag: np.ndarray = None  # int8 (T,) leaf order: 1 sensor, 2 holdout; (0,) when no triangle has a flag
+    sensor_mat: int = -1  # ≥ 0: measuring mode, the index of the white two-sided Lambert sensors take
+    film_transparent: int = 0  # camera rays that miss leave the pixel transparent
 
 
 def cmf_table(observer="1931"):
@@ -358,7 +361,28 @@ def _profile_table(scene, li, what, geo_row, LG):
     return table, k * peak, k * phi_file
 
 
-def prepare(scene: Scene) -> Prepared:
+def _triangle_flags(scene, bvh, tri_mat_orig, measure):
+    """int8 (T,) flags in leaf order (1: sensor, 2: holdout from the mesh or its material),
+    or (0,) when nothing is flagged (the kernel then skips the test)."""
+    parts = []
+    hold_mat = np.array([bool(m.holdout) for m in scene.materials] or [False])
+    for mesh in scene.meshes:
+        n = mesh.indices.shape[0]
+        parts.append(np.full(n, (1 if mesh.sensor else 0) | (2 if mesh.holdout else 0), np.int8))
+    flags = np.concatenate(parts) if parts else np.zeros(0, np.int8)
+    if flags.size:
+        flags |= np.where(hold_mat[tri_mat_orig], 2, 0).astype(np.int8)
+    if measure and not np.any(flags & 1):
+        raise SceneError("meshes: an illuminance render needs at least one mesh with sensor = True")
+    if not np.any(flags):
+        return np.zeros(0, np.int8)
+    return np.ascontiguousarray(flags[bvh.prims], np.int8)
+
+
+def prepare(scene: Scene, measure=False) -> Prepared:
+    """The kernel's arrays for ``scene``. measure=True prepares the illuminance render of
+    its sensor meshes (core/sensors.py): one more material, a white (ρ = 1) two-sided
+    Lambert, that the camera ray's first hit on a sensor takes instead of its own."""
     validate(scene)
     t0 = time.perf_counter()
     cmf = cmf_table(scene.settings.observer)
@@ -405,6 +429,11 @@ def prepare(scene: Scene) -> Prepared:
         mat_kappa[i] = m.kappa_table
         mat_ior[i] = m.ior
         mat_emis_two[i] = 1 if m.two_sided else 0
+        if m.holdout:  # deeper than the camera ray, Cycles' Holdout shader is black and absorbing
+            mat_model[i] = C.MAT_LAMBERT
+            mat_p[i] = material_row(Material("holdout"))
+            mat_ra[i] = -1
+            continue
         if m.emission >= 0 and m.emission_luminance > 0.0:
             mat_emis[i] = m.emission
             mat_emis_scale[i] = _luminance_scale(spec[m.emission], cmf, m.emission_luminance,
@@ -495,6 +524,20 @@ def prepare(scene: Scene) -> Prepared:
     world_row = spec.shape[0]
     if world_basis is not None:
         spec = np.concatenate([spec, world_basis.astype(np.float32)])
+    sensor_mat = -1
+    if measure:  # the sensors' white two-sided Lambert: one more material, ρ = 1 (one more spectrum row)
+        sensor_mat = n_mat
+        mat_model = np.append(mat_model, np.int32(C.MAT_LAMBERT))
+        mat_p = np.concatenate([mat_p, material_row(Material("sensor"))[None, :]])
+        mat_ra = np.append(mat_ra, np.int32(spec.shape[0]))
+        mat_rb = np.append(mat_rb, np.int32(-1))
+        mat_eta = np.append(mat_eta, np.int32(-1))
+        mat_kappa = np.append(mat_kappa, np.int32(-1))
+        mat_ior = np.append(mat_ior, 1.5)
+        mat_emis = np.append(mat_emis, np.int32(-1))
+        mat_emis_scale = np.append(mat_emis_scale, 0.0)
+        mat_emis_two = np.append(mat_emis_two, np.int32(1))
+        spec = np.concatenate([spec, np.ones((1, C.N_LAMBDA), np.float32)])
     # the albedo AOV's colour: XYZ of every spectrum row under CIE D65 of Y = 1
     dwl, d65 = presets.illuminant("D65")
     d65 = np.interp(moments.grid(), dwl, d65)
@@ -543,6 +586,9 @@ def prepare(scene: Scene) -> Prepared:
     scene_scale = max(1.0, float(max(pts)))
     ior_tab = scene.ior_tables.values if len(scene.ior_tables) else np.ones((1, C.N_LAMBDA), np.float32)
     mat_medium, med_tab, med_g = media_tables(scene, spec)
+    if measure:
+        mat_medium = np.append(mat_medium, np.int32(-1))
+    tri_flag = _triangle_flags(scene, bvh, tri_mat_orig, measure)
     cam_medium = camera_medium(scene, v0, v1, v2, tri_mat_orig, mat_medium) if med_tab.shape[0] else -1
     return Prepared(scene, bvh, tri_mat, tri_emitter, mat_model, mat_p, mat_ra, mat_rb, mat_eta, mat_kappa,
                     mat_ior, np.ascontiguousarray(ior_tab, np.float32), mat_emis, mat_emis_scale,
@@ -551,7 +597,8 @@ def prepare(scene: Scene) -> Prepared:
                     world_spec, world_scale, world_img, world_dist, world_par, int(world_row), world_emit,
                     camera_vector(scene.camera, scene.settings), filter_distribution(scene.settings),
                     _shading_normals(scene, bvh), spec_alb, scene_scale,
-                    time.perf_counter() - t0, mat_medium, med_tab, med_g, cam_medium, light_prof)
+                    time.perf_counter() - t0, mat_medium, med_tab, med_g, cam_medium, light_prof, tri_flag,
+                    sensor_mat, int(bool(scene.settings.film_transparent)))
 
 
 def _rows(prep, film, y0, y1, s0, s1):
@@ -570,7 +617,7 @@ def _rows(prep, film, y0, y1, s0, s1):
                 int(prep.world_spec), float(prep.world_scale), prep.world_img, prep.world_dist, prep.world_par,
                 prep.world_row, prep.world_emit, film.spectral, film.aov, prep.tri_nrm, prep.spec_alb, int(st.sampler),
                 int(st.spp), prep.mat_medium, prep.med_tab, prep.med_g, int(prep.cam_medium),
-                int(bool(st.next_event)))
+                int(bool(st.next_event)), prep.tri_flag, int(prep.sensor_mat), int(prep.film_transparent))
 
 
 def thread_count(threads=None):
@@ -635,7 +682,7 @@ def relative_error(film):
 
 
 def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_pass=None, status=None,
-           spectral_bins=0, resume=None):
+           spectral_bins=0, resume=None, measure=False):
     """Render ``scene`` to a :class:`Film`.
 
     progress(done_spp, total_spp, samples_per_second) after each pass;
@@ -648,12 +695,14 @@ def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_
     sampler excepted: its points depend on the total). The given film is not modified.
     The scene's settings.time_limit (s) and settings.noise_target (relative standard
     error of the mean luminance) stop the render early; RenderStats.stop_reason says why.
+    measure=True renders the illuminance of the scene's sensor meshes instead (see
+    core/sensors.py, which turns the film into lux).
     Returns (film, RenderStats).
     """
     say = status or (lambda text: None)
     n_threads = thread_count(threads)
     say("Preparing scene")
-    prep = prepare(scene)
+    prep = prepare(scene, measure=measure)
     cam = scene.camera
     if resume is not None:
         if (resume.width, resume.height) != (cam.width, cam.height):

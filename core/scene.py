@@ -41,6 +41,8 @@ class Mesh:
     material: np.ndarray  # int32 (T,), into Scene.materials
     normals: np.ndarray | None = None  # float32 (N, 3) shading normals, or None (flat)
     uvs: np.ndarray | None = None  # float32 (N, 2), or None
+    sensor: bool = False  # an illuminance sensor (core.sensors.render_illuminance measures on it)
+    holdout: bool = False  # camera rays that reach it first see a hole (alpha 0); other rays its material
 
 
 @dataclass
@@ -114,6 +116,7 @@ class Material:
     eta_table: int = -1  # index into Scene.ior_tables for η(λ); -1 = constant ``ior``
     kappa_table: int = -1  # index into Scene.ior_tables for κ(λ); -1 = 0
     interior: int = -1  # index into Scene.media of the medium behind the surface (its back side); -1 = none
+    holdout: bool = False  # Cycles' Holdout shader: a hole (alpha 0) for camera rays, black and absorbing for others
 
 
 @dataclass
@@ -264,6 +267,7 @@ class RenderSettings:
     next_event: bool = True  # False: the naive reference integrator (BSDF sampling only, no NEE, no MIS)
     colour_space: str = "rec709"  # output colour space of the image: 'rec709', 'acescg' or 'xyz' (core.film)
     observer: str = "1931"  # CIE observer of the film's XYZ: '1931' (2°) or '1964' (10°); photometry is V(λ)
+    film_transparent: bool = False  # Cycles' Film > Transparent: camera rays that miss give alpha 0, no world
 
 
 @dataclass
@@ -398,6 +402,8 @@ def validate(scene: Scene) -> Scene:
         _check_number(f"{nm}.interior", m.interior, integer=True)
         if not -1 <= m.interior < n_med:
             _fail(f"{nm}.interior", f"medium index {m.interior} out of range [-1, {n_med})")
+        if not isinstance(m.holdout, (bool, np.bool_)):
+            _fail(f"{nm}.holdout", f"expected true or false, got {m.holdout!r}")
         if m.model == C.MAT_NULL and m.emission != -1 and m.emission_luminance > 0.0:
             _fail(f"{nm}.emission", "a null surface (model MAT_NULL) cannot emit")
         if m.params is not None:
@@ -448,6 +454,9 @@ def validate(scene: Scene) -> Scene:
             _check_array(f"{nm}.normals", mesh.normals, np.float32, (n_v, 3))
         if mesh.uvs is not None:
             _check_array(f"{nm}.uvs", mesh.uvs, np.float32, (n_v, 2))
+        for key in ("sensor", "holdout"):
+            if not isinstance(getattr(mesh, key), (bool, np.bool_)):
+                _fail(f"{nm}.{key}", f"expected true or false, got {getattr(mesh, key)!r}")
 
     n_prof = len(scene.profiles)
     for i, pr in enumerate(scene.profiles):
@@ -565,6 +574,8 @@ def validate(scene: Scene) -> Scene:
         _fail("settings.colour_space", f"unknown colour space {s.colour_space!r} (one of {', '.join(COLOUR_SPACES)})")
     if s.observer not in OBSERVERS:
         _fail("settings.observer", f"unknown observer {s.observer!r} ('1931': CIE 1931 2°, '1964': CIE 1964 10°)")
+    if not isinstance(s.film_transparent, (bool, np.bool_)):
+        _fail("settings.film_transparent", f"expected true or false, got {s.film_transparent!r}")
     return scene
 
 
@@ -608,6 +619,9 @@ def to_dict_and_arrays(scene: Scene):
             if a is not None:
                 arrays[f"meshes.{i}.{key}"] = a
                 rec[key] = f"meshes.{i}.{key}"
+        for key in ("sensor", "holdout"):
+            if getattr(m, key):
+                rec[key] = True
         meshes.append(rec)
     profiles = []
     for i, pr in enumerate(scene.profiles):
@@ -713,6 +727,8 @@ def load(path) -> Scene:
                 material=arr(m.get("material"), f"meshes[{i}].material"),
                 normals=arr(m.get("normals"), f"meshes[{i}].normals"),
                 uvs=arr(m.get("uvs"), f"meshes[{i}].uvs"),
+                sensor=m.get("sensor", False),
+                holdout=m.get("holdout", False),
             ))
         materials = [record(Material, d, f"materials[{i}]") for i, d in enumerate(doc["materials"])]
         itd = doc.get("ior_tables")

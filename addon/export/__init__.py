@@ -45,7 +45,8 @@ def render_settings(scene):
                           filter_width=float(get("filter_width")), time_limit=float(get("time_limit")),
                           noise_target=float(get("noise_target")),
                           colour_space=COLOUR_SPACES[str(getattr(s, "colour_space", "REC709"))],
-                          observer=OBSERVERS[str(getattr(s, "observer", "CIE1931"))])
+                          observer=OBSERVERS[str(getattr(s, "observer", "CIE1931"))],
+                          film_transparent=bool(getattr(scene.render, "film_transparent", False)))
 
 
 def fourier_order(scene):
@@ -98,6 +99,11 @@ def export_scene(depsgraph, scene=None, should_cancel=None):
                 continue
             mesh = export_mesh(ctx, obj, matrix, name, cache if inst.is_instance else None)
             if mesh is not None:
+                # the illuminance-sensor flag (our object property) and Blender's object holdout, of the
+                # object or of its instancer (a curve or text whose mesh this is; as Cycles reads holdout)
+                owners = (obj, inst.parent) if inst.is_instance and inst.parent is not None else (obj,)
+                mesh.sensor = any(bool(getattr(o, "spectral_gi_sensor", False)) for o in owners)
+                mesh.holdout = any(bool(getattr(o, "is_holdout", False)) for o in owners)
                 meshes.append(mesh)
                 surfaced.add(obj.original.name)
                 for mat in slot_materials(obj):

@@ -406,6 +406,9 @@ def _shader(ctx, owner, node, depth=0):
         colour = input_value(ctx, owner, node, ("Color",), "colour")
         strength = input_value(ctx, owner, node, ("Strength",), "value")
         return None, [(colour, strength)]
+    if kind == "HOLDOUT":  # only a whole surface can be a holdout; inside a mix or add it is black
+        ctx.note(f"{owner}: '{node.name}' inside a shader mix is black (a partial holdout is not supported)")
+        return None, []
     # Unsupported shader: listed in the warning; its colour (if any) stands in as a diffuse colour.
     ctx.skip("shader nodes (a diffuse surface of their colour instead)", f"{owner}/{node.name}")
     colour = node_colour(ctx, owner, node, fallback=None)
@@ -604,6 +607,9 @@ def build_material(ctx, mat):
             from ...core import constants
             return Material(name=name, model=constants.MAT_NULL, interior=interior)
         return Material(name=name)  # an unconnected output renders black
+    if node is not None and node.type == "HOLDOUT" and not override:
+        # Cycles' Holdout shader: a hole (alpha 0) for camera rays, black and absorbing for the others
+        return Material(name=name, holdout=True, interior=interior)
     if override:
         root = _finish(ctx, name, override_tree(ctx, mat, settings, node), emission_terms(ctx, name, node))
     else:

@@ -112,6 +112,13 @@ class SpectralGISceneSettings(bpy.types.PropertyGroup):
                     "and speed cost",
         default=12, min=3, max=16,
     )
+    use_sensors: BoolProperty(
+        name="Sensors",
+        description="After the image, render the illuminance (lux) on the objects marked as Illuminance "
+                    "Sensor (Object properties) into an Illuminance pass: a second render of the same "
+                    "samples, with the sensors' first hits measured by a white Lambertian surface",
+        default=False,
+    )
 
     # ------------------------------------------------------------------ Cycles comparison (last result)
     compare_output_dir: StringProperty(
@@ -172,7 +179,15 @@ SpectralGIViewLayerSettings = type(
 classes = (SpectralGISceneSettings, SpectralGIViewLayerSettings)
 
 
+SENSOR_PROPERTY = "spectral_gi_sensor"  # bpy.types.Object: an illuminance sensor
+
+
 def register_properties():
+    setattr(bpy.types.Object, SENSOR_PROPERTY, BoolProperty(
+        name="Illuminance Sensor",
+        description="Spectral GI measures the illuminance (lux) on this object's surfaces seen by the camera "
+                    "(Render properties > Sensors): the Illuminance pass and the Em, Emin, Emax, U0 report",
+        default=False))
     bpy.types.Scene.spectral_gi = bpy.props.PointerProperty(
         type=SpectralGISceneSettings, name="Spectral GI",
         description="Settings of the Spectral GI renderer (samples, bounces, seed, threads)")
@@ -186,3 +201,5 @@ def unregister_properties():
         del bpy.types.ViewLayer.spectral_gi
     if hasattr(bpy.types.Scene, "spectral_gi"):
         del bpy.types.Scene.spectral_gi
+    if hasattr(bpy.types.Object, SENSOR_PROPERTY):
+        delattr(bpy.types.Object, SENSOR_PROPERTY)

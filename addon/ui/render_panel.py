@@ -131,6 +131,66 @@ def draw_colour_settings(col, s):
     col.prop(s, "fourier_order")
 
 
+class SPECTRALGI_PT_sensors(SpectralGIEnginePanel, bpy.types.Panel):
+    """Illuminance sensors: the option, the sensor objects and the last render's statistics (lux)."""
+
+    bl_idname = "SPECTRALGI_PT_sensors"
+    bl_label = "Sensors"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw_header(self, context):
+        self.layout.prop(context.scene.spectral_gi, "use_sensors", text="")
+
+    def draw(self, context):
+        s = context.scene.spectral_gi
+        layout = self.layout
+        col = layout.column()
+        col.active = s.use_sensors
+        sensors = [o.name for o in context.scene.objects if getattr(o, "spectral_gi_sensor", False)]
+        if sensors:
+            col.label(text=f"Sensor objects: {len(sensors)} ({', '.join(sensors[:3])}"
+                           f"{', …' if len(sensors) > 3 else ''})", icon="LIGHT_SUN")
+        else:
+            col.label(text="No sensor objects: mark them in Object properties", icon="ERROR")
+        col.label(text="Illuminance pass in lux (0 off the sensors)")
+        stats = render_job.STATE.illuminance
+        if stats:
+            box = layout.box()
+            box.label(text="Last render (pixel statistics)", icon="GRAPH")
+            if stats.get("pixels"):
+                box.label(text=f"Em (mean): {stats['Em']:.4g} lx")
+                box.label(text=f"Emin: {stats['Emin']:.4g} lx    Emax: {stats['Emax']:.4g} lx")
+                box.label(text=f"U0 = Emin / Em: {stats['U0']:.3f}    ({stats['pixels']} px)")
+            else:
+                box.label(text="No sensor surface was in view")
+            box.label(text="Area-weighted only for an orthographic top view", icon="INFO")
+
+
+class SPECTRALGI_PT_object(bpy.types.Panel):
+    """Object properties: the illuminance-sensor flag and Blender's holdout (both read by the export)."""
+
+    bl_idname = "SPECTRALGI_PT_object"
+    bl_label = "Spectral GI"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "object"
+    COMPAT_ENGINES = {ENGINE}
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.object
+        return (context.engine in cls.COMPAT_ENGINES and obj is not None and obj.type in
+                ("MESH", "CURVE", "SURFACE", "FONT", "META") and hasattr(obj, "spectral_gi_sensor"))
+
+    def draw(self, context):
+        obj = context.object
+        col = self.layout.column()
+        col.use_property_split = True
+        col.use_property_decorate = False
+        col.prop(obj, "spectral_gi_sensor")
+        col.prop(obj, "is_holdout")
+
+
 class SPECTRALGI_PT_passes(bpy.types.Panel):
     bl_idname = "SPECTRALGI_PT_passes"
     bl_label = "Spectral GI Passes"
@@ -155,4 +215,5 @@ class SPECTRALGI_PT_passes(bpy.types.Panel):
             col.prop(s, prop)
 
 
-classes = (SPECTRALGI_PT_render, SPECTRALGI_PT_sampling, SPECTRALGI_PT_film, SPECTRALGI_PT_passes)
+classes = (SPECTRALGI_PT_render, SPECTRALGI_PT_sampling, SPECTRALGI_PT_film, SPECTRALGI_PT_sensors,
+           SPECTRALGI_PT_passes, SPECTRALGI_PT_object)

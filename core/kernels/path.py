@@ -264,7 +264,8 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 light_kind, light_geo, light_prof, light_spec, light_scale, light_two_sided, light_visible,
                 emit_cdf, emit_prob, emit_tri, emit_light,
                 world_spec, world_scale, world_img, world_dist, world_par, world_row, world_emit,
-                spectral, aov, tri_nrm, spec_alb, sampler, n_total, mat_medium, med_tab, med_g, cam_medium, nee):
+                spectral, aov, tri_nrm, spec_alb, sampler, n_total, mat_medium, med_tab, med_g, cam_medium, nee,
+                tri_flag, sensor_mat, film_transparent):
     """Add samples s0 .. s1-1 of every pixel of rows y0 .. y1-1 to ``film`` (H, W, 5) float64.
 
     cmf: (N_LAMBDA, 3) x̄, ȳ, z̄ of the observer, or (N_LAMBDA, 4) with V(λ) in column 3 when
@@ -300,7 +301,19 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
     reflectance (ra) under D65 (spec_alb: (S, 3) XYZ of each spectrum row under D65 of
     Y = 1, precomputed, so the pass carries no colour noise), 3-5 the
     first hit's shading normal facing the camera, 6 the first hit's distance along the
-    camera ray, 7 the number of samples whose camera ray hit something.
+    camera ray, 7 the number of samples whose camera ray hit something, 8 the number of
+    samples that left the pixel transparent (alpha = 1 - that / samples; see below).
+
+    Holdout, transparent film and illuminance sensors: tri_flag (T,) int8 in leaf order
+    (0 entries: no flags), bit 1 a sensor triangle, bit 2 a holdout triangle. A camera ray
+    whose first hit is a holdout triangle ends there with no radiance and counts as
+    transparent; with film_transparent != 0 a camera ray that hits nothing counts as
+    transparent and adds no world radiance (the world still lights the scene).
+    sensor_mat ≥ 0 turns on measuring mode: the camera ray's first hit, if it is a sensor
+    triangle, takes material sensor_mat (a white two-sided Lambert, no emission) instead of
+    its own, every deeper vertex its real material, so the pixel's radiance is E/π; camera
+    rays that hit no sensor (or nothing) end at once, count as transparent, and analytic
+    lights seen by camera rays are ignored.
 
     spectral: (H, W, B) float64 sums of the spectral radiance averaged over B equal bins
     of [LMIN, LMAX] (W/(m² sr nm)); pass a (1, 1, 0) array to skip it.
@@ -375,6 +388,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 aZ = 0.0
                 medium = cam_medium
                 outer = -1
+                transp = 0.0
                 t_lo = 0.0  # the ray goes on from here after passing null surfaces
                 if has_media:
                     media.start_path(med_tab, medium, lam, mw)
@@ -387,7 +401,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                         dim += 1
                     # analytic lights: hit for their emission, never occluders (as in Cycles)
                     for li in range(n_lights):
-                        if depth == 0 and light_visible[li] == 0:
+                        if depth == 0 and (light_visible[li] == 0 or sensor_mat >= 0):
                             continue
                         lk = light_kind[li]
                         if lk == C.LIGHT_SUN:
@@ -454,6 +468,9 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                             continue
                         media.segment(medium, mw, beta, t - t_lo, False)
                     if prim < 0:
+                        if depth == 0 and (film_transparent != 0 or sensor_mat >= 0):
+                            transp = 1.0
+                            break
                         if world_par[3] > 0.0:
                             ti, tj, wpdf = env_lookup(world_dist, world_par, world_img.shape[1], world_img.shape[0],
                                                       dx, dy, dz)
@@ -521,6 +538,15 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                         aov[y, x, 6] += t
                         aov[y, x, 7] += 1.0
                     m = tri_mat[prim]
+                    if depth == 0 and tri_flag.shape[0] > 0:
+                        if sensor_mat >= 0:
+                            if (tri_flag[prim] & 1) == 0:
+                                transp = 1.0
+                                break
+                            m = sensor_mat  # white two-sided Lambert, emission ignored
+                        elif (tri_flag[prim] & 2) != 0:  # holdout: a hole in the film
+                            transp = 1.0
+                            break
                     # emission: both sides (Blender's Emission shader) or the front side only
                     if mat_emis[m] >= 0 and (cos_i > 0.0 or (cos_i < 0.0 and mat_emis_two[m] != 0)):
                         w = 1.0
@@ -695,3 +721,4 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 aov[y, x, 0] += aX
                 aov[y, x, 1] += aY
                 aov[y, x, 2] += aZ
+                aov[y, x, 8] += transp

@@ -1,10 +1,11 @@
-"""The stratified sampler: Sobol (0, 2) pixel positions with a per-pixel digital shift."""
+"""The stratified sampler: Sobol (0, 2) pixel positions with a per-pixel digital shift, and every
+other pair of dimensions from its own Owen-scrambled, index-shuffled copy of the sequence."""
 import numpy as np
 import pytest
 
 from spectral_gi import core
 from spectral_gi.core import constants as C
-from spectral_gi.core.kernels.rng import shift_32, sobol_02
+from spectral_gi.core.kernels.rng import mix64, nested_index, owen32, rev32, shift_32, sobol_02, sobol_pair
 
 # Sobol's first two dimensions, points 0..7 in index order (not Gray-code order): dimension
 # 0 is the van der Corput sequence, dimension 1 XORs the direction numbers 1/2, 3/4, 5/8
@@ -62,3 +63,76 @@ def test_thread_count_does_not_change_the_image():
     a, _ = core.render(_cornell(C.SAMPLER_STRATIFIED, 8, 3), threads=1)
     b, _ = core.render(_cornell(C.SAMPLER_STRATIFIED, 8, 3), threads=2)
     assert np.array_equal(a.sums, b.sums)
+
+
+def test_bit_reversal():
+    assert rev32(1) == 2 ** 31 and rev32(2 ** 31) == 1 and rev32(0b1011) == 0b1101 << 28
+    x = np.random.default_rng(0).integers(0, 2 ** 32, 200)
+    assert all(rev32(rev32(int(v))) == v for v in x)
+
+
+@pytest.mark.parametrize("h", [1, 2 ** 40 + 3, 0xDEADBEEFCAFEF00D])
+def test_index_shuffle_maps_every_power_of_two_block_onto_itself(h):
+    """What keeps a time-limited render stratified: the first 2^m samples of every pair are
+    the whole first 2^m points, in another order."""
+    for m in range(0, 11):
+        idx = sorted(int(nested_index(i, np.uint64(h))) for i in range(2 ** m))
+        assert idx == list(range(2 ** m)), m
+    # and it does shuffle
+    assert [int(nested_index(i, np.uint64(h))) for i in range(16)] != list(range(16))
+
+
+def test_owen_scrambling_is_a_nested_bijection():
+    """Owen scrambling maps each elementary interval [k 2^-j, (k+1) 2^-j) onto another one:
+    values sharing their first j binary digits still share them after scrambling."""
+    rng = np.random.default_rng(1)
+    for seed in (0, 77, 2 ** 31 + 5):
+        v = rng.integers(0, 2 ** 32, 64, dtype=np.uint64)
+        for j in (1, 3, 8):
+            w = (v >> np.uint64(32 - j)) << np.uint64(32 - j) | (rng.integers(0, 2 ** (32 - j), 64, dtype=np.uint64))
+            a = [int(owen32(int(x), seed)) >> (32 - j) for x in v]
+            b = [int(owen32(int(x), seed)) >> (32 - j) for x in w]
+            assert a == b
+        out = sorted(int(owen32(i << 24, seed)) >> 24 for i in range(256))
+        assert out == list(range(256))
+
+
+@pytest.mark.parametrize("pair", [1, 3, 10])
+@pytest.mark.parametrize("pseed", [0, 987654321])
+def test_every_pair_is_a_0_m_2_net_from_the_first_sample(pair, pseed):
+    m = 7
+    pts = np.array([[sobol_pair(i, c, pseed, pair) for c in (0, 1)] for i in range(2 ** m)])
+    assert np.all((pts >= 0) & (pts < 1))
+    for k in range(m + 1):
+        ix = np.floor(pts[:, 0] * 2 ** k).astype(int)
+        iy = np.floor(pts[:, 1] * 2 ** (m - k)).astype(int)
+        assert np.unique(ix * 2 ** (m - k) + iy).size == 2 ** m, k
+
+
+def test_pairs_are_uniform_and_uncorrelated_across_pixels():
+    """Over many pixel seeds each sample of a pair is uniform, and two pairs of the same
+    sample are independent: E[x_a] = 1/2, E[x_a x_b] = 1/4, E[x_a y_a] = 1/4, within 4 sd."""
+    n_pix, spp = 4000, 4
+    seeds = [np.uint64(mix64(np.uint64(p))) for p in range(n_pix)]
+    a = np.array([[sobol_pair(s, 0, ps, 3) for s in range(spp)] for ps in seeds])
+    ay = np.array([[sobol_pair(s, 1, ps, 3) for s in range(spp)] for ps in seeds])
+    b = np.array([[sobol_pair(s, 0, ps, 4) for s in range(spp)] for ps in seeds])
+    n = a.size
+    assert abs(a.mean() - 0.5) < 4 * np.sqrt(1 / 12 / n)
+    for prod in (a * b, a * ay):
+        assert abs(prod.mean() - 0.25) < 4 * prod.std() / np.sqrt(n)
+    # a chi-square over 16 bins of the pair (x_a, x_b) for sample 1
+    counts, _, _ = np.histogram2d(a[:, 1], b[:, 1], bins=4, range=[[0, 1], [0, 1]])
+    chi2 = ((counts - n_pix / 16) ** 2 / (n_pix / 16)).sum()
+    assert chi2 < 37.7  # 15 degrees of freedom, p = 0.001
+
+
+def test_stratified_mean_is_unbiased_over_seeds():
+    """The scrambled sampler's image mean, over independent seeds, matches the independent
+    sampler's converged mean (the film's variance estimate does not hold for QMC)."""
+    ref, _ = core.render(_cornell(C.SAMPLER_INDEPENDENT, 512, 11), threads=2)
+    r = ref.develop().luminance.mean()
+    means = [core.render(_cornell(C.SAMPLER_STRATIFIED, 16, sd), threads=2)[0].develop().luminance.mean()
+             for sd in range(6)]
+    se = np.std(means, ddof=1) / np.sqrt(len(means))
+    assert abs(np.mean(means) - r) < 4 * np.hypot(se, np.sqrt(ref.develop().variance.sum()) / ref.sums[..., 0].size)

@@ -20,7 +20,9 @@ import numpy as np
 from .. import constants as C
 from ..jit import function, inline, kernel
 from ..bsdfs.dispatch import bsdf_eval, bsdf_flags, bsdf_sample
-from ..bsdfs.params import ALPHA_MIN, BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE, BSDF_GLOSSY
+from ..bsdfs.common import clamp01
+from ..bsdfs.params import ALPHA_MIN, BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE, BSDF_GLOSSY, BSDF_REFLECTION, P_TWO_SIDED
+from ..bsdfs.phong import lambert_sample_dir
 from . import media
 from . import textures as tex
 from .bvh import STACK_SIZE, closest_hit
@@ -29,7 +31,7 @@ from .lights import env_lookup, env_sample, hit_light, sample_light, sun_hit
 from ..sampling.qmc import pixel_seed, qmc_sample
 from ..sampling.tags import RANDOMIZE_OWEN, SAMPLER_INDEPENDENT
 from .spectrum import lookup
-from .rng import path_key, shift_32, sobol_02, uniform
+from .rng import path_key, shift_32, sobol_02, sobol_pair, uniform
 
 NW = C.N_WAVELENGTHS
 LMIN = C.LAMBDA_MIN
@@ -46,6 +48,10 @@ VIS_C = 538.0
 VIS_TA = math.tanh(VIS_B * (LMIN - VIS_C))
 VIS_TB = math.tanh(VIS_B * (LMAX - VIS_C))
 
+# The stratified sampler's Sobol dimensions: the camera (0-4) and two bounces of light and
+# BSDF samples (5 per bounce without mixes or media: light pick, light pair, BSDF pair).
+STRATIFIED_DIMS = 17
+
 # Ray offset against self-intersection: relative to the scene's coordinate magnitude.
 EPS_REL = 1e-5
 
@@ -59,6 +65,17 @@ def qmc_dimension(sampler, index, dim, pseed, n):
     return qmc_sample(sampler, RANDOMIZE_OWEN, index, dim, pseed, n)
 
 
+@function
+def stratified_dimension(index, dim, pseed):
+    """Dimension ``dim`` (not 1, 2) of the stratified sampler: the lens pair 3-4, then pairs
+    2k, 2k + 1 (so the light and BSDF pairs of the first bounces are aligned), each from
+    its own scrambled and shuffled (0, 2)-sequence. A function of its own: inlined at every
+    call site it would multiply the path kernel's compile time."""
+    if dim == 3 or dim == 4:
+        return sobol_pair(index, dim - 3, pseed, 1)
+    return sobol_pair(index, dim & 1, pseed, dim >> 1)
+
+
 @inline
 def rnd(sampler, key, pseed, index, dim, n):
     """The path's sample in dimension ``dim``: the counter RNG for the independent sampler,
@@ -68,10 +85,14 @@ def rnd(sampler, key, pseed, index, dim, n):
         return uniform(key, dim)
     if sampler == C.SAMPLER_STRATIFIED:
         # the pixel-filter pair (dimensions 1, 2) from a digitally shifted Sobol (0, 2)
-        # sequence: stratified positions in the pixel (what makes edges of bright emitters
-        # converge), independent random numbers for everything else
+        # sequence (stratified positions in the pixel: what makes edges of bright emitters
+        # converge), every other pair of the first two bounces from its own scrambled,
+        # shuffled copy; deeper dimensions, which carry little of the image's variance,
+        # from the counter RNG (each stratified dimension costs a function call)
         if dim == 1 or dim == 2:
             return sobol_02(index, dim - 1, shift_32(pseed, dim))
+        if dim < STRATIFIED_DIMS:
+            return stratified_dimension(np.int64(index), np.int64(dim), pseed)
         return uniform(key, dim)
     # np.int64(...): a literal dimension (0 ... 4 at the camera) would otherwise compile
     # one specialisation of qmc_dimension per literal value
@@ -180,6 +201,50 @@ def _emitter_sample(ei, ua, ub, px, py, pz, lam, le, v0, e1, e2, tri_mat, mat_em
             le[i] = (cr * lookup(spec, world_row, lam[i]) + cg * lookup(spec, world_row + 1, lam[i])
                      + cb * lookup(spec, world_row + 2, lam[i]))
     return wx, wy, wz, dist, lpdf, fac
+
+
+
+@inline
+def _lambert_eval(pm, ra, woz, wiz, fv):
+    """bsdf_eval for MAT_LAMBERT, inline (the same arithmetic, so the same bits): the
+    commonest material skips the dispatch's function call."""
+    if not (woz > 0.0):
+        if woz < 0.0 and pm[P_TWO_SIDED] != 0.0:
+            wiz = -wiz
+        else:
+            for i in range(NW):
+                fv[i] = 0.0
+            return 0.0
+    if not (wiz > 0.0):
+        for i in range(NW):
+            fv[i] = 0.0
+        return 0.0
+    for i in range(NW):
+        fv[i] = clamp01(ra[i]) * INV_PI
+    return wiz * INV_PI
+
+
+@inline
+def _lambert_sample(pm, ra, woz, u1, u2, fv):
+    """bsdf_sample for MAT_LAMBERT, inline (same arithmetic as core.bsdfs.dispatch)."""
+    flip = False
+    if not (woz > 0.0):
+        if woz < 0.0 and pm[P_TWO_SIDED] != 0.0:
+            flip = True
+        else:
+            return 0.0, 0.0, 1.0, 0.0, 0
+    x, y, z, fl = lambert_sample_dir(u1, u2)
+    if fl == 0:
+        return 0.0, 0.0, 1.0, 0.0, 0
+    pdf = z * INV_PI
+    if not (pdf > 0.0):
+        return 0.0, 0.0, 1.0, 0.0, 0
+    c = abs(z) / pdf
+    for i in range(NW):
+        fv[i] = clamp01(ra[i]) * INV_PI * c
+    if flip:
+        z = -z
+    return x, y, z, pdf, fl
 
 
 @inline
@@ -585,18 +650,28 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     if do_nee and (flags_m & (BSDF_DIFFUSE | BSDF_GLOSSY)) != 0:
                         ue = rnd(sampler, key, pseed, s, dim, n_total)
                         ei = media.pick(emit_cdf, n_emit, ue)
-                        wx, wy, wz, dist, lpdf, fac = _emitter_sample(
-                            ei, rnd(sampler, key, pseed, s, dim + 1, n_total), rnd(sampler, key, pseed, s, dim + 2,
-                                                                                   n_total),
-                            px, py, pz, lam, le, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale, mat_emis_two, spec,
-                            light_kind, light_geo, light_prof, light_spec, light_scale, light_two_sided, emit_tri,
-                            emit_light,
-                            world_img, world_dist, world_par, world_row)
+                        ua = rnd(sampler, key, pseed, s, dim + 1, n_total)
+                        ub = rnd(sampler, key, pseed, s, dim + 2, n_total)
+                        if emit_tri[ei] >= 0:  # emissive triangles inline: no function call
+                            wx, wy, wz, dist, lpdf, fac, l_row, l_scale = _triangle_sample(
+                                emit_tri[ei], ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale,
+                                mat_emis_two)
+                            for i in range(NW):
+                                le[i] = l_scale * lookup(spec, l_row, lam[i])
+                        else:
+                            wx, wy, wz, dist, lpdf, fac = _emitter_sample(
+                                ei, ua, ub, px, py, pz, lam, le, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale,
+                                mat_emis_two, spec, light_kind, light_geo, light_prof, light_spec, light_scale,
+                                light_two_sided,
+                                emit_tri, emit_light, world_img, world_dist, world_par, world_row)
                         cos_n = snx * wx + sny * wy + snz * wz
                         if fac > 0.0 and lpdf > 0.0 and cos_n * (nx * wx + ny * wy + nz * wz) > 0.0:
                             wix = wx * tx + wy * ty + wz * tz
                             wiy = wx * cx + wy * cy + wz * cz
-                            pb = bsdf_eval(model, pm, ra, rb, eta, kappa, wox, woy, woz, wix, wiy, cos_n, fv)
+                            if model == C.MAT_LAMBERT:
+                                pb = _lambert_eval(pm, ra, woz, cos_n, fv)
+                            else:
+                                pb = bsdf_eval(model, pm, ra, rb, eta, kappa, wox, woy, woz, wix, wiy, cos_n, fv)
                             fmax = 0.0
                             for i in range(NW):
                                 fmax = max(fmax, fv[i])
@@ -618,9 +693,13 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                                         rad[i] += beta[i] * fv[i] * g * le[i]
                     dim += 3
                     # BSDF sampling
-                    wix, wiy, wiz, pdf, flags = bsdf_sample(model, pm, ra, rb, eta, kappa, wox, woy, woz,
-                                                            rnd(sampler, key, pseed, s, dim, n_total), rnd(sampler, key, pseed, s, dim + 1, n_total),
-                                                            rnd(sampler, key, pseed, s, dim + 2, n_total), fv)
+                    u1 = rnd(sampler, key, pseed, s, dim, n_total)
+                    u2 = rnd(sampler, key, pseed, s, dim + 1, n_total)
+                    if model == C.MAT_LAMBERT:
+                        wix, wiy, wiz, pdf, flags = _lambert_sample(pm, ra, woz, u1, u2, fv)
+                    else:
+                        wix, wiy, wiz, pdf, flags = bsdf_sample(model, pm, ra, rb, eta, kappa, wox, woy, woz, u1, u2,
+                                                                rnd(sampler, key, pseed, s, dim + 2, n_total), fv)
                     dim += 3
                     if flags == 0:
                         break

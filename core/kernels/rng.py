@@ -84,3 +84,98 @@ def sobol_02(index, second, scramble):
 def shift_32(pseed, dim):
     """A 32-bit digital shift for dimension ``dim`` of the pixel with seed ``pseed``."""
     return mix64(np.uint64(pseed) ^ (np.uint64(dim) * _M1 + _GOLDEN)) >> _S32
+
+
+# ----------------------------------------------------------- padded, scrambled Sobol pairs
+#
+# The "stratified" sampler gives every pair of path dimensions its own randomised copy of
+# the (0, 2)-sequence above (the padding idea of Kollig & Keller 2002, as in Cycles'
+# Sobol–Burley and pbrt-v4's PaddedSobolSampler): pair k of sample i is point π_k(i) of the
+# sequence, Owen-scrambled. π_k permutes the sample indices per pixel and pair, so pairs
+# are not correlated with each other; it maps every block [0, 2^m) onto itself, so the
+# first 2^m samples of every pair form a whole (0, m, 2)-net whatever the total sample
+# count (a time-limited render is stratified at every power of two it passes).
+
+_M32 = np.uint64(0xFFFFFFFF)
+_LK1 = np.uint64(0x6C50B47C)
+_LK2 = np.uint64(0xB82F1E52)
+_LK3 = np.uint64(0xC7AFE638)
+_LK4 = np.uint64(0x8D22F6E6)
+
+
+@inline
+def rev32(x):
+    """The 32 low bits of x in reverse order."""
+    v = ((x >> _S1) & _B1) | ((x & _B1) << _S1)
+    v = ((v >> _S2) & _B2) | ((v & _B2) << _S2)
+    v = ((v >> _S4) & _B4) | ((v & _B4) << _S4)
+    v = ((v >> _S8) & _B8) | ((v & _B8) << _S8)
+    return ((v >> _S16) | (v << _S16)) & _M32
+
+
+@inline
+def _shuffle_rev(index, h):
+    """The bit-reversed image of ``index`` under the index shuffle (see nested_index)."""
+    x = rev32(np.uint64(index) & _M32)
+    x ^= (x * ((h << _S1) & _M32)) & _M32
+    x ^= (x * ((h >> _S31) & np.uint64(0xFFFFFFFE))) & _M32
+    x ^= (x * _LK2) & _M32
+    return x
+
+
+@inline
+def nested_index(index, h):
+    """A permutation of 32-bit sample indices that maps each [0, 2^m) onto itself: on the
+    bit-reversed index, x ^= x·c with even c only lets a bit depend on the bits below it
+    (above it in the index) and keeps trailing zeros, so high zero bits stay zero. Three
+    rounds with multipliers from the hash h."""
+    return rev32(_shuffle_rev(index, h))
+
+
+@inline
+def _lk(x, seed):
+    """The Laine–Karras hash on bit-reversed digits: x + seed, then x ^= x·c for four even
+    constants (Burley, "Practical Hash-based Owen Scrambling", JCGT 2020)."""
+    x = (x + seed) & _M32
+    x ^= (x * _LK1) & _M32
+    x ^= (x * _LK2) & _M32
+    x ^= (x * _LK3) & _M32
+    x ^= (x * _LK4) & _M32
+    return x
+
+
+@inline
+def owen32(v, seed):
+    """Nested uniform (Owen) scrambling of a 32-bit binary fraction: each digit flipped by a
+    hash of the digits before it."""
+    return rev32(_lk(rev32(v), seed))
+
+
+@inline
+def sobol_bits(index, second):
+    """The 32-bit binary fraction of point ``index`` of the (0, 2)-sequence (see sobol_02)."""
+    i = np.uint64(index) & _LO32
+    if second == 0:
+        return rev32(i)
+    v = _ZERO
+    d = _TOP
+    while i != _ZERO:
+        if (i & _S1) != _ZERO:
+            v ^= d
+        i >>= _S1
+        d ^= d >> _S1
+    return v
+
+
+@inline
+def sobol_pair(index, comp, pseed, pair):
+    """Component ``comp`` (0, 1) of sample ``index`` for dimension pair ``pair`` of the
+    pixel with seed ``pseed``: a float in [0, 1). The value of
+    owen32(sobol_bits(nested_index(index, h), comp), seed), with the bit reversals that
+    cancel left out (the first component's digits are the reversed shuffled index)."""
+    h = mix64(np.uint64(pseed) ^ (np.uint64(pair) * _GOLDEN + _M2))
+    seed = (h >> _S32) ^ (np.uint64(comp) * np.uint64(0x9E3779B9))
+    j = rev32(_shuffle_rev(index, h))
+    if comp == 0:
+        return float(rev32(_lk(j, seed))) * _INV32
+    return float(owen32(sobol_bits(j, 1), seed)) * _INV32

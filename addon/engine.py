@@ -81,7 +81,13 @@ def register_extra():
 
 
 def unregister_extra():
+    # Blender's panels only: this add-on's own panels keep their COMPAT_ENGINES (class
+    # attributes of modules that stay imported), else they would stay hidden after the
+    # add-on is disabled and enabled again in one session
+    own = __name__.rsplit(".", 1)[0]
     for panel in bpy.types.Panel.__subclasses__():
+        if panel.__module__.startswith(own):
+            continue
         engines = getattr(panel, "COMPAT_ENGINES", None)
         if engines is not None and SpectralGIRenderEngine.bl_idname in engines:
             try:

@@ -32,6 +32,17 @@ def test_register_unregister_register(ext, bpy):
     assert all(registered(bpy).values())
     s = bpy.context.scene.spectral_gi
     assert (s.samples, s.max_bounces, s.seed, s.threads) == (64, 16, 0, 0)
+    # the engine's own panels show again with the engine selected (their COMPAT_ENGINES
+    # survive the cycle), and Blender's generic panels list the engine again
+    engine = bpy.context.scene.render.engine
+    try:
+        bpy.context.scene.render.engine = "SPECTRAL_GI"
+        for name in ("SPECTRALGI_PT_sampling", "SPECTRALGI_PT_film", "SPECTRALGI_PT_sensors"):
+            panel = getattr(bpy.types, name)
+            assert "SPECTRAL_GI" in panel.COMPAT_ENGINES and panel.poll(bpy.context), name
+        assert "SPECTRAL_GI" in bpy.types.RENDER_PT_format.COMPAT_ENGINES
+    finally:
+        bpy.context.scene.render.engine = engine
 
 
 def test_every_setting_states_its_unit_or_meaning(ext, bpy):
@@ -80,8 +91,13 @@ def test_panel_draws_idle_and_while_rendering(ext, bpy, monkeypatch):
     monkeypatch.setattr(state, "done", 3)
     monkeypatch.setattr(state, "total", 64)
     monkeypatch.setattr(state, "rate", 1.5e6)
+    monkeypatch.setattr(state, "cancelling", False)
     labels.clear()
     panel.draw(fake, bpy.context)
     text = " ".join(labels)
     assert "Compiling kernels (first run only)" in text and "3 / 64" in text and "1.50 M samples/s" in text
-    assert "Esc" in text
+    assert "Esc" in text and "Cancelling" not in text
+    monkeypatch.setattr(state, "cancelling", True)
+    labels.clear()
+    panel.draw(fake, bpy.context)
+    assert "Cancelling…" in " ".join(labels)

@@ -212,7 +212,7 @@ def sample_light(kind, geo, prof, li, two_sided, px, py, pz, ua, ub):
         if fac == 0.0:
             return cx, cy, cz, d, 0.0, 0.0
     if geo[li, LG_PROF] >= 0.0:
-        fac *= profile_factor(geo, prof, li, -cx, -cy, -cz)
+        fac *= profile_factor(geo, prof, np.int64(li), -cx, -cy, -cz)
         if fac <= 0.0:
             return cx, cy, cz, d, 0.0, 0.0
     r = geo[li, LG_RADIUS]
@@ -292,7 +292,7 @@ def hit_light(kind, geo, prof, li, two_sided, ox, oy, oz, dx, dy, dz, tmax):
     if kind == C.LIGHT_SPOT:
         fac = spot_mask(geo, li, -cx / d, -cy / d, -cz / d)
     if fac > 0.0 and geo[li, LG_PROF] >= 0.0:
-        fac *= profile_factor(geo, prof, li, -cx / d, -cy / d, -cz / d)
+        fac *= profile_factor(geo, prof, np.int64(li), -cx / d, -cy / d, -cz / d)
     k = cone_one_minus_cos(math.asin(min(r / d, 1.0)))
     return t, fac, 1.0 / (TWO_PI * k)
 

@@ -398,7 +398,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 aY = 0.0
                 aZ = 0.0
                 medium = cam_medium
-                outer = -1
+                outer = np.int64(-1)  # np.int64: a literal -1 would compile media.shadow/nee/cross twice
                 transp = 0.0
                 t_lo = 0.0  # the ray goes on from here after passing null surfaces
                 if has_media:
@@ -436,7 +436,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                                 * mw[media.MW_TR, i]
                     if medium >= 0:
                         if t_end < t:  # a scattering event in the medium
-                            media.segment(medium, mw, beta, t_end - t_lo, True)
+                            media.segment(medium, mw, beta, t_end - t_lo, t_end < t)  # True here, not as a literal
                             if depth > max_depth:
                                 break
                             px = ox + t_end * dx
@@ -477,7 +477,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                                         beta[i] /= q
                                 dim += 1
                             continue
-                        media.segment(medium, mw, beta, t - t_lo, False)
+                        media.segment(medium, mw, beta, t - t_lo, t_end < t)  # False here, not as a literal
                     if prim < 0:
                         if depth == 0 and (film_transparent != 0 or sensor_mat >= 0):
                             transp = 1.0

@@ -56,28 +56,39 @@ _INV32 = 1.0 / 4294967296.0  # 2^-32
 
 
 @inline
+def rev32(x):
+    """The 32 low bits of x in reverse order."""
+    v = ((x >> _S1) & _B1) | ((x & _B1) << _S1)
+    v = ((v >> _S2) & _B2) | ((v & _B2) << _S2)
+    v = ((v >> _S4) & _B4) | ((v & _B4) << _S4)
+    v = ((v >> _S8) & _B8) | ((v & _B8) << _S8)
+    return ((v >> _S16) | (v << _S16)) & _LO32
+
+
+@inline
+def sobol_bits(index, second):
+    """The 32-bit binary fraction of point ``index`` of the (0, 2)-sequence (see sobol_02)."""
+    i = np.uint64(index) & _LO32
+    if second == 0:
+        return rev32(i)
+    v = _ZERO
+    d = _TOP
+    while i != _ZERO:
+        if (i & _S1) != _ZERO:
+            v ^= d
+        i >>= _S1
+        d ^= d >> _S1
+    return v
+
+
+@inline
 def sobol_02(index, second, scramble):
     """Point ``index`` of the first two dimensions of Sobol's sequence, a (0, 2)-sequence in
     base 2 (dimension 0 the van der Corput radical inverse, dimension 1 the generator
     matrix of the primitive polynomial x + 1), with a digital shift ``scramble`` (32 bits,
     XOR): every 2^m consecutive points aligned at a multiple of 2^m put one point in each
     elementary interval of area 2^-m, whatever the shift. Returns a float in [0, 1)."""
-    i = np.uint64(index) & _LO32
-    if second == 0:
-        v = ((i >> _S1) & _B1) | ((i & _B1) << _S1)
-        v = ((v >> _S2) & _B2) | ((v & _B2) << _S2)
-        v = ((v >> _S4) & _B4) | ((v & _B4) << _S4)
-        v = ((v >> _S8) & _B8) | ((v & _B8) << _S8)
-        v = ((v >> _S16) | (v << _S16)) & _LO32
-    else:
-        v = _ZERO
-        d = _TOP
-        while i != _ZERO:
-            if (i & _S1) != _ZERO:
-                v ^= d
-            i >>= _S1
-            d ^= d >> _S1
-    return float((v ^ scramble) & _LO32) * _INV32
+    return float((sobol_bits(index, second) ^ scramble) & _LO32) * _INV32
 
 
 @inline
@@ -96,7 +107,6 @@ def shift_32(pseed, dim):
 # first 2^m samples of every pair form a whole (0, m, 2)-net whatever the total sample
 # count (a time-limited render is stratified at every power of two it passes).
 
-_M32 = np.uint64(0xFFFFFFFF)
 _LK1 = np.uint64(0x6C50B47C)
 _LK2 = np.uint64(0xB82F1E52)
 _LK3 = np.uint64(0xC7AFE638)
@@ -104,22 +114,12 @@ _LK4 = np.uint64(0x8D22F6E6)
 
 
 @inline
-def rev32(x):
-    """The 32 low bits of x in reverse order."""
-    v = ((x >> _S1) & _B1) | ((x & _B1) << _S1)
-    v = ((v >> _S2) & _B2) | ((v & _B2) << _S2)
-    v = ((v >> _S4) & _B4) | ((v & _B4) << _S4)
-    v = ((v >> _S8) & _B8) | ((v & _B8) << _S8)
-    return ((v >> _S16) | (v << _S16)) & _M32
-
-
-@inline
 def _shuffle_rev(index, h):
     """The bit-reversed image of ``index`` under the index shuffle (see nested_index)."""
-    x = rev32(np.uint64(index) & _M32)
-    x ^= (x * ((h << _S1) & _M32)) & _M32
-    x ^= (x * ((h >> _S31) & np.uint64(0xFFFFFFFE))) & _M32
-    x ^= (x * _LK2) & _M32
+    x = rev32(np.uint64(index) & _LO32)
+    x ^= (x * ((h << _S1) & _LO32)) & _LO32
+    x ^= (x * ((h >> _S31) & np.uint64(0xFFFFFFFE))) & _LO32
+    x ^= (x * _LK2) & _LO32
     return x
 
 
@@ -136,11 +136,11 @@ def nested_index(index, h):
 def _lk(x, seed):
     """The Laine–Karras hash on bit-reversed digits: x + seed, then x ^= x·c for four even
     constants (Burley, "Practical Hash-based Owen Scrambling", JCGT 2020)."""
-    x = (x + seed) & _M32
-    x ^= (x * _LK1) & _M32
-    x ^= (x * _LK2) & _M32
-    x ^= (x * _LK3) & _M32
-    x ^= (x * _LK4) & _M32
+    x = (x + seed) & _LO32
+    x ^= (x * _LK1) & _LO32
+    x ^= (x * _LK2) & _LO32
+    x ^= (x * _LK3) & _LO32
+    x ^= (x * _LK4) & _LO32
     return x
 
 
@@ -149,22 +149,6 @@ def owen32(v, seed):
     """Nested uniform (Owen) scrambling of a 32-bit binary fraction: each digit flipped by a
     hash of the digits before it."""
     return rev32(_lk(rev32(v), seed))
-
-
-@inline
-def sobol_bits(index, second):
-    """The 32-bit binary fraction of point ``index`` of the (0, 2)-sequence (see sobol_02)."""
-    i = np.uint64(index) & _LO32
-    if second == 0:
-        return rev32(i)
-    v = _ZERO
-    d = _TOP
-    while i != _ZERO:
-        if (i & _S1) != _ZERO:
-            v ^= d
-        i >>= _S1
-        d ^= d >> _S1
-    return v
 
 
 @inline

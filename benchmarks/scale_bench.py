@@ -11,8 +11,8 @@ the triangles. ``n`` is chosen so the total is close to the requested number of 
 For each size it prints
 
 * the build time of ``accel.build`` (float32 corners in) and the time per million triangles,
-* the bytes per triangle the renderer keeps (``BVH.nbytes``: node arrays, leaf-order
-  triangles, ``prims``) and the peak extra resident memory of the build (VmHWM reset
+* the bytes per triangle the renderer keeps (``BVH.nbytes``: node records, leaf-order
+  triangles for traversal and shading, ``prims``) and the peak extra resident memory of the build (VmHWM reset
   through /proc/self/clear_refs just before it; the corner arrays already exist),
 * tree statistics (nodes, depth, mean leaf size, SAH cost),
 * closest-hit rays/s: ``--rays`` rays from 16 camera positions on a ring around the scene,
@@ -166,12 +166,21 @@ def tree_stats(bvh):
     """(depth, mean leaf size, SAH cost with unit traversal and intersection costs)."""
     from spectral_gi.core.accel import tree_depth
 
-    leaves = bvh.count > 0
-    ext = (bvh.bmax - bvh.bmin).astype(np.float64)
-    area = 2 * (ext[:, 0] * ext[:, 1] + ext[:, 1] * ext[:, 2] + ext[:, 2] * ext[:, 0])
-    rel = area / area[0]
-    cost = rel[~leaves].sum() + (rel[leaves] * bvh.count[leaves]).sum()
-    return tree_depth(bvh), bvh.count[leaves].mean(), cost
+    def area(box):
+        ext = (box[:, 3:6] - box[:, 0:3]).astype(np.float64)
+        return 2 * (ext[:, 0] * ext[:, 1] + ext[:, 1] * ext[:, 2] + ext[:, 2] * ext[:, 0])
+
+    lk = bvh.links
+    lo = np.minimum(bvh.nodes[0, 0:3], bvh.nodes[0, 6:9])
+    hi = np.maximum(bvh.nodes[0, 3:6], bvh.nodes[0, 9:12])
+    root = area(np.concatenate([lo, hi])[None])[0]
+    inner = 0.0
+    for side in (0, 1):  # every internal child, i.e. every record but the root's
+        sel = (lk[:, 13 + 2 * side] == 0) & (lk[:, 12 + 2 * side] >= 0)
+        inner += area(bvh.nodes[sel, 6 * side:6 * side + 6]).sum()
+    _, counts, boxes = bvh.leaves()
+    cost = (root + inner + (area(boxes) * counts).sum()) / root
+    return tree_depth(bvh), counts.mean(), cost
 
 
 def run(size_m, n_rays, reps=3):
@@ -204,8 +213,7 @@ def run(size_m, n_rays, reps=3):
     for _ in range(reps):
         t0 = time.perf_counter()
         c0 = time.process_time()
-        t, p = K.trace_closest_batch(o, d, tm, bvh.bmin, bvh.bmax, bvh.child, bvh.count, bvh.axis,
-                                     bvh.v0, bvh.e1, bvh.e2)
+        t, p = K.trace_closest_batch(o, d, tm, bvh.nodes, bvh.tris)
         best = min(best, time.perf_counter() - t0)
         best_cpu = min(best_cpu, time.process_time() - c0)
     closest_rate = n_rays / best
@@ -215,8 +223,7 @@ def run(size_m, n_rays, reps=3):
     for _ in range(reps):
         t0 = time.perf_counter()
         c0 = time.process_time()
-        occ = K.trace_occluded_batch(so, sd, sdist, bvh.bmin, bvh.bmax, bvh.child, bvh.count,
-                                     bvh.v0, bvh.e1, bvh.e2)
+        occ = K.trace_occluded_batch(so, sd, sdist, bvh.nodes, bvh.tris)
         best = min(best, time.perf_counter() - t0)
         best_cpu = min(best_cpu, time.process_time() - c0)
     occ_rate = so.shape[0] / best

@@ -628,7 +628,7 @@ def _rows(prep, film, y0, y1, s0, s1):
     b = prep.bvh
     render_rows(film.sums, int(y0), int(y1), int(s0), int(s1), int(st.seed), int(st.max_depth), int(st.rr_depth),
                 float(prep.scene_scale), prep.cam, prep.filt,
-                b.bmin, b.bmax, b.child, b.count, b.axis, b.v0, b.e1, b.e2, prep.tri_mat, prep.tri_emitter,
+                b.nodes, b.tris, b.v0, b.e1, b.e2, prep.tri_mat, prep.tri_emitter,
                 prep.mat_model, prep.mat_p, prep.mat_ra, prep.mat_rb, prep.mat_eta, prep.mat_kappa, prep.mat_ior,
                 prep.ior_tab, prep.mat_emis, prep.mat_emis_scale, prep.mat_emis_two, prep.spec, prep.cmf,
                 prep.light_kind, prep.light_geo, prep.light_prof, prep.light_spec, prep.light_scale,

@@ -258,7 +258,7 @@ def _lookup_material(m, lam, spec, ior_tab, mat_ra, mat_rb, mat_eta, mat_kappa, 
 
 @kernel
 def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, cam, filt,
-                bmin, bmax, child, count, axis, v0, e1, e2, tri_mat, tri_emitter,
+                nodes, tris, v0, e1, e2, tri_mat, tri_emitter,
                 mat_model, mat_p, mat_ra, mat_rb, mat_eta, mat_kappa, mat_ior, ior_tab,
                 mat_emis, mat_emis_scale, mat_emis_two,
                 spec, cmf,
@@ -405,7 +405,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     media.start_path(med_tab, medium, lam, mw)
                 while True:
                     t, prim, bu, bv = closest_hit(ox, oy, oz, dx, dy, dz, t_lo, np.inf,
-                                                  bmin, bmax, child, count, axis, v0, e1, e2, stack)
+                                                  nodes, tris, stack)
                     t_end = t
                     if medium >= 0:
                         t_end = min(t, t_lo + media.free_flight(medium, mw, rnd(sampler, key, pseed, s, dim, n_total)))
@@ -453,7 +453,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                                     world_img,
                                     world_dist, world_par, world_row)
                                 media.nee(px, py, pz, dx, dy, dz, g, wx, wy, wz, dist, lpdf, fac, le, emit_prob[ei],
-                                          medium, outer, lam, beta, rad, mw, bmin, bmax, child, count, axis, v0, e1,
+                                          medium, outer, lam, beta, rad, mw, nodes, tris, v0, e1,
                                           e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack)
                             dim += 3
                             dx, dy, dz, prev_pdf = media.hg_sample(g, dx, dy, dz,
@@ -680,8 +680,8 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                                 tmax_s = dist * (1.0 - 1e-4) - eps if dist < np.inf else np.inf
                                 if media.unoccluded(has_media, px + side * eps * nx, py + side * eps * ny,
                                                     pz + side * eps * nz, wx, wy, wz, tmax_s, medium, outer,
-                                                    mat_medium[tri_mat[prim]], cos_i, cos_n, lam, mw, fv, bmin, bmax,
-                                                    child, count, axis, v0, e1, e2, tri_mat, mat_model, mat_medium,
+                                                    mat_medium[tri_mat[prim]], cos_i, cos_n, lam, mw, fv, nodes, tris,
+                                                    v0, e1, e2, tri_mat, mat_model, mat_medium,
                                                     med_tab, eps, stack):
                                     pe = emit_prob[ei]
                                     if lpdf == np.inf:  # delta light: NEE only, no MIS

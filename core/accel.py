@@ -51,10 +51,8 @@ class BVH:
         return sum(a.nbytes for a in (self.nodes, self.prims, self.tris, self.v0, self.e1, self.e2))
 
 
-def _aligned(a, align=64):
-    """``a`` itself if its data start on an ``align``-byte boundary, else an aligned copy."""
-    if a.ctypes.data % align == 0:
-        return a
+def _aligned_copy(a, align=64):
+    """A numpy-allocated copy of ``a`` whose data start on an ``align``-byte boundary."""
     buf = np.empty(a.nbytes + align, np.uint8)
     off = (-buf.ctypes.data) % align
     out = buf[off:off + a.nbytes].view(a.dtype).reshape(a.shape)
@@ -82,11 +80,18 @@ def build(v0, v1, v2):
         raise ValueError(f"accel.build: corner arrays differ in shape: {a.shape}, {b.shape}, {c.shape}")
     if a.shape[0] >= 2 ** 31 - 1:
         raise ValueError(f"accel.build: {a.shape[0]} triangles exceed the int32 indices")
-    nodes, prims, tris, tv0, te1, te2, bad = K.build_bvh(a, b, c)
+    n = a.shape[0]
+    # numpy-allocated outputs: numpy asks the kernel for transparent huge pages on large
+    # arrays, which spares traversal a TLB miss per node on big scenes
+    tris = np.empty((n, 9), np.float32)
+    tv0 = np.empty((n, 3), np.float32)
+    te1 = np.empty((n, 3), K.EDGE_DTYPE)
+    te2 = np.empty((n, 3), K.EDGE_DTYPE)
+    nodes, prims, bad = K.build_bvh(a, b, c, tris, tv0, te1, te2)
     if bad >= 0:
         raise ValueError(f"accel.build: triangle {bad} has a non-finite corner coordinate "
                          f"({a[bad].tolist()}, {b[bad].tolist()}, {c[bad].tolist()})")
-    return BVH(_aligned(nodes), prims, tris, tv0, te1, te2)
+    return BVH(_aligned_copy(nodes), prims, tris, tv0, te1, te2)
 
 
 def _rays(origins, directions, tmax):

@@ -246,7 +246,7 @@ def test_depth_is_bounded_for_pathological_input():
     v2 = v0 + np.stack([0.5 * x, np.zeros(n), 0.3 * x], 1)
     bvh = accel.build(v0, v1, v2)
     depth = accel.tree_depth(bvh)
-    assert K.FALLBACK_DEPTH < depth <= K.MAX_DEPTH <= K.STACK_SIZE
+    assert K.FALLBACK_DEPTH < depth <= K.MAX_DEPTH and 3 * (K.MAX_DEPTH - 1) <= K.STACK_SIZE
     assert np.array_equal(np.sort(bvh.prims), np.arange(n))
     rng = np.random.default_rng(4)
     k = rng.integers(0, 400, 2000)

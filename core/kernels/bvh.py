@@ -24,8 +24,8 @@ also in leaf order.
 
 The tree depth is at most ``MAX_DEPTH``: below ``FALLBACK_DEPTH`` the builder splits by
 SAH, deeper it halves the triangle range, which needs at most 31 more levels for fewer
-than 2^31 triangles. Traversal pushes at most one child per record level, so
-``STACK_SIZE`` entries always suffice.
+than 2^31 triangles. Traversal pushes at most one child per record level (3 int32
+slots: reference, count, entry distance), so ``STACK_SIZE`` slots always suffice.
 """
 import numpy as np
 from numba import prange
@@ -37,7 +37,7 @@ MAX_LEAF = 8  # ranges this small always become leaves (fewer nodes, same ray sp
 MAX_LEAF_SAH = 16  # SAH may keep ranges up to this size as leaves
 FALLBACK_DEPTH = 32
 MAX_DEPTH = FALLBACK_DEPTH + 32
-STACK_SIZE = 128
+STACK_SIZE = 3 * MAX_DEPTH  # int32 slots: up to 3 per pushed child, at most one per record level
 TRAVERSAL_COST = 1.0  # relative to one triangle test
 EDGE_DTYPE = np.float64
 NODE_WIDTH = 16  # float32 slots per record: 64 bytes
@@ -108,18 +108,20 @@ def _set_child_box(nodes, rec, side, l0, l1, l2, h0, h1, h2):
 
 
 @kernel
-def build_bvh(v0, v1, v2):
+def build_bvh(v0, v1, v2, tris, tv0, te1, te2):
     """Binned-SAH build over corners (T, 3) (float32 or float64; rounded to float32).
 
-    Returns (nodes, prims, tris, tri_v0, tri_e1, tri_e2, bad): ``nodes`` the packed
-    records (module docstring), ``prims`` maps leaf order to input order, ``tris`` the
-    leaf-order corners for traversal, ``tri_v0/e1/e2`` the leaf-order shading arrays;
-    ``bad`` is the index of the first triangle with a non-finite coordinate, or -1 (the
-    tree is then not valid).
+    Fills the caller's leaf-order triangle arrays: ``tris`` float32 (T, 9) the corners for
+    traversal, ``tv0`` float32 (T, 3), ``te1``, ``te2`` float64 (T, 3) the shading arrays
+    (so the caller chooses their memory, e.g. huge pages). Returns (nodes, prims, bad):
+    ``nodes`` the packed records (module docstring; a view of a larger, mostly untouched
+    buffer: copy it), ``prims`` maps leaf order to input order, ``bad`` the index of the
+    first triangle with a non-finite coordinate, or -1 (the tree is then not valid).
     """
     n_tri = v0.shape[0]
     max_rec = max(1, n_tri - 1)  # inner nodes of a tree whose leaves are never empty
-    nodes = np.zeros((max_rec, NODE_WIDTH), np.float32)
+    # np.empty: the pages of records never written are never touched, so never resident
+    nodes = np.empty((max_rec, NODE_WIDTH), np.float32)
     links = nodes.view(np.int32)
     prims = np.empty(n_tri, np.int32)
     bad = -1
@@ -142,8 +144,7 @@ def build_bvh(v0, v1, v2):
                     bad = i
             prims[i] = i
         if bad >= 0:
-            return nodes[:1].copy(), prims, np.empty((0, 9), np.float32), np.empty((0, 3), np.float32), \
-                np.empty((0, 3), EDGE_DTYPE), np.empty((0, 3), EDGE_DTYPE), bad
+            return nodes[:1], prims, bad
 
         b_cnt = np.zeros((3, N_BINS), np.int64)
         b_lo = np.empty((3, N_BINS, 3), np.float32)
@@ -334,10 +335,6 @@ def build_bvh(v0, v1, v2):
 
     # triangles in leaf order (lo and hi are no longer needed): the corners for traversal,
     # the first corner and the exact edges for shading
-    tris = np.empty((n_tri, 9), np.float32)
-    tv0 = np.empty((n_tri, 3), np.float32)
-    te1 = np.empty((n_tri, 3), EDGE_DTYPE)
-    te2 = np.empty((n_tri, 3), EDGE_DTYPE)
     for k in range(n_tri):
         p = prims[k]
         for q in range(3):
@@ -346,7 +343,7 @@ def build_bvh(v0, v1, v2):
             tv0[k, q] = a32
             te1[k, q] = np.float64(b32) - np.float64(a32)
             te2[k, q] = np.float64(c32) - np.float64(a32)
-    return nodes[:n_rec].copy(), prims, tris, tv0, te1, te2, bad
+    return nodes[:n_rec], prims, bad
 
 
 @inline
@@ -448,16 +445,26 @@ def _inv(d):
 
 
 @inline
+def _below(t):
+    """The largest float32 not above t (t >= 0)."""
+    f = np.float32(t)
+    if np.float64(f) > t:
+        f = np.nextafter(f, np.float32(-np.inf))
+    return f
+
+
+@inline
 def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     """Closest triangle hit in (tmin, tmax). Returns (t, prim, u, v); prim = -1 on a miss.
 
     Front-to-back: of two children hit, the nearer is visited first and the other pushed
-    (as 2 × its parent record + side); a popped child is skipped when its box, read again
-    from the parent record, now starts beyond the best hit.
+    with its reference, count and entry distance (rounded down to float32), so a pop reads
+    no node; a popped child is skipped when its box starts beyond the best hit by then.
     """
     if tris.shape[0] == 0:
         return np.inf, -1, 0.0, 0.0
     links = nodes.view(np.int32)
+    fstack = stack.view(np.float32)
     ix = _inv(dx); iy = _inv(dy); iz = _inv(dz)
     kx, ky, kz, sx, sy, sz = ray_setup(dx, dy, dz)
     okx = _pick(ox, oy, oz, kx); oky = _pick(ox, oy, oz, ky); okz = _pick(ox, oy, oz, kz)
@@ -474,14 +481,18 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
             tr = _slab(ox, oy, oz, ix, iy, iz, nodes, ref, 6, best_t)
             if tl < np.inf:
                 if tr < tl:
-                    stack[sp] = 2 * ref
-                    sp += 1
+                    stack[sp] = links[ref, L_REF]
+                    stack[sp + 1] = links[ref, L_CNT]
+                    fstack[sp + 2] = _below(tl)
+                    sp += 3
                     cnt = links[ref, R_CNT]
                     ref = links[ref, R_REF]
                 else:
                     if tr < np.inf:
-                        stack[sp] = 2 * ref + 1
-                        sp += 1
+                        stack[sp] = links[ref, R_REF]
+                        stack[sp + 1] = links[ref, R_CNT]
+                        fstack[sp + 2] = _below(tr)
+                        sp += 3
                     cnt = links[ref, L_CNT]
                     ref = links[ref, L_REF]
                 continue
@@ -499,13 +510,10 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
                     best_v = v
         found = False
         while sp > 0:
-            sp -= 1
-            e = stack[sp]
-            rec = e >> 1
-            side = e & 1
-            if _slab(ox, oy, oz, ix, iy, iz, nodes, rec, 6 * side, best_t) < np.inf:
-                ref = links[rec, L_REF + 2 * side]
-                cnt = links[rec, L_CNT + 2 * side]
+            sp -= 3
+            if fstack[sp + 2] <= best_t:
+                ref = stack[sp]
+                cnt = stack[sp + 1]
                 found = True
                 break
         if not found:
@@ -517,7 +525,8 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
 
 @inline
 def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
-    """True if any triangle is hit in (tmin, tmax). Nearer child first, any hit ends it."""
+    """True if any triangle is hit in (tmin, tmax). Nearer child first (the other pushed
+    as reference and count), any hit ends it."""
     if tris.shape[0] == 0:
         return False
     links = nodes.view(np.int32)
@@ -533,14 +542,16 @@ def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
             tr = _slab(ox, oy, oz, ix, iy, iz, nodes, ref, 6, tmax)
             if tl < np.inf:
                 if tr < tl:
-                    stack[sp] = 2 * ref
-                    sp += 1
+                    stack[sp] = links[ref, L_REF]
+                    stack[sp + 1] = links[ref, L_CNT]
+                    sp += 2
                     cnt = links[ref, R_CNT]
                     ref = links[ref, R_REF]
                 else:
                     if tr < np.inf:
-                        stack[sp] = 2 * ref + 1
-                        sp += 1
+                        stack[sp] = links[ref, R_REF]
+                        stack[sp + 1] = links[ref, R_CNT]
+                        sp += 2
                     cnt = links[ref, L_CNT]
                     ref = links[ref, L_REF]
                 continue
@@ -555,11 +566,9 @@ def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
                     return True
         if sp == 0:
             return False
-        sp -= 1
-        e = stack[sp]
-        side = e & 1
-        cnt = links[e >> 1, L_CNT + 2 * side]
-        ref = links[e >> 1, L_REF + 2 * side]
+        sp -= 2
+        ref = stack[sp]
+        cnt = stack[sp + 1]
 
 
 @kernel(parallel=True)

@@ -622,7 +622,7 @@ def prepare(scene: Scene, measure=False) -> Prepared:
 
 
 def _rows(prep, film, y0, y1, s0, s1):
-    from .kernels.path import render_rows
+    from .kernels.path import render_rows, scratch
 
     st = prep.scene.settings
     b = prep.bvh
@@ -638,7 +638,8 @@ def _rows(prep, film, y0, y1, s0, s1):
                 prep.world_row, prep.world_emit, film.spectral, film.aov, prep.tri_nrm, prep.spec_alb, int(st.sampler),
                 int(st.spp), prep.mat_medium, prep.med_tab, prep.med_g, int(prep.cam_medium),
                 int(bool(st.next_event)), prep.tri_flag, int(prep.sensor_mat), int(prep.film_transparent),
-                prep.tri_tex, prep.tex_data, prep.tex_info, prep.mat_tex, prep.mat_nstr, int(prep.tex_row))
+                prep.tri_tex, prep.tex_data, prep.tex_info, prep.mat_tex, prep.mat_nstr, int(prep.tex_row),
+                *scratch(prep.mat_p.shape[1]))
 
 
 def thread_count(threads=None):

@@ -54,6 +54,7 @@ STRATIFIED_DIMS = 17
 
 # Ray offset against self-intersection: relative to the scene's coordinate magnitude.
 EPS_REL = 1e-5
+WORK_ROWS = 11  # rows of render_rows' scratch ``work``: λ, pdf(λ), β, L, ρa, ρb, η, κ, f, Le, λ cell fraction
 
 
 
@@ -411,7 +412,15 @@ def _splat(film, spectral, y, x, rad, pdf_lam, lam, cmf, photometric):
         film[y, x, 4] += Y * Y
 
 
-@kernel
+def scratch(n_params):
+    """The scratch arrays render_rows works in (it allocates nothing: see ``kernel``):
+    (work, mw, pm_tex, lc, stack) for material parameter rows of ``n_params`` entries.
+    One set per concurrent call."""
+    return (np.empty((WORK_ROWS, NW)), np.empty((media.MW_ROWS, NW)), np.empty(max(int(n_params), 1)),
+            np.empty(NW, np.int64), np.empty(STACK_SIZE, np.int32))
+
+
+@kernel(refcount=False)
 def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, cam, filt,
                 nodes, tris, v0, e1, e2, tri_mat, tri_emitter,
                 mat_model, mat_p, mat_ra, mat_rb, mat_eta, mat_kappa, mat_ior, ior_tab,
@@ -422,7 +431,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 world_spec, world_scale, world_img, world_dist, world_par, world_row, world_emit,
                 spectral, aov, tri_nrm, spec_alb, sampler, n_total, mat_medium, med_tab, med_g, cam_medium, nee,
                 tri_flag, sensor_mat, film_transparent,
-                tri_tex, tex_data, tex_info, mat_tex, mat_nstr, tex_row):
+                tri_tex, tex_data, tex_info, mat_tex, mat_nstr, tex_row, work, mw, pm_tex, lc, stack):
     """Add samples s0 .. s1-1 of every pixel of rows y0 .. y1-1 to ``film`` (H, W, 5) float64.
 
     cmf: (N_LAMBDA, 3) x̄, ȳ, z̄ of the observer, or (N_LAMBDA, 4) with V(λ) in column 3 when
@@ -493,6 +502,9 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
     textures and their table; mat_tex (K, 3) each material's base colour, roughness and
     normal texture (-1 none), mat_nstr (K,) its normal strength; tex_row the first of the
     three reflectance basis rows of ``spec`` a base colour texel's rgb weighs.
+
+    work, mw, pm_tex, lc, stack: scratch arrays from ``scratch`` (the kernel allocates
+    nothing, so it runs without numba's reference counting).
     """
     height = film.shape[0]
     width = film.shape[1]
@@ -508,21 +520,17 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
     # the photometric Y and channel 4 its square; else Y is photometric (5 channels)
     photometric = cmf.shape[1] > 3 and film.shape[2] > 5
     for y in range(y0, y1):
-        pm_tex = np.empty(mat_p.shape[1])
-        stack = np.empty(STACK_SIZE, np.int32)
-        lam = np.empty(NW)
-        pdf_lam = np.empty(NW)
-        beta = np.empty(NW)
-        rad = np.empty(NW)
-        ra = np.empty(NW)
-        rb = np.empty(NW)
-        eta = np.empty(NW)
-        kappa = np.empty(NW)
-        fv = np.empty(NW)
-        le = np.empty(NW)
-        mw = np.empty((media.MW_ROWS, NW))
-        lc = np.empty(NW, np.int64)
-        lf = np.empty(NW)
+        lam = work[0]
+        pdf_lam = work[1]
+        beta = work[2]
+        rad = work[3]
+        ra = work[4]
+        rb = work[5]
+        eta = work[6]
+        kappa = work[7]
+        fv = work[8]
+        le = work[9]
+        lf = work[10]
         for x in range(width):
             pix = y * width + x
             pseed = pixel_seed(seed, pix)

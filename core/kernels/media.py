@@ -38,7 +38,7 @@ import numpy as np
 
 from .. import constants as C
 from ..jit import function, inline
-from .bvh import closest_hit, occluded
+from .bvh import trace_closest, trace_occluded
 from .spectrum import lookup
 
 NW = C.N_WAVELENGTHS
@@ -256,7 +256,7 @@ def shadow(ox, oy, oz, wx, wy, wz, dist, medium, outer, lam, mw, nodes, tris,
         mw[MW_TR, i] = 1.0
     t0 = 0.0
     for _ in range(MAX_CROSSINGS):
-        t, prim, bu, bv = closest_hit(ox, oy, oz, wx, wy, wz, t0, dist, nodes, tris, stack)
+        t, prim, bu, bv = trace_closest(ox, oy, oz, wx, wy, wz, t0, dist, nodes, tris, stack)
         end = dist if prim < 0 else t
         if medium >= 0 and end > t0:
             for i in range(NW):
@@ -286,7 +286,7 @@ def unoccluded(has_media, ox, oy, oz, wx, wy, wz, tmax, medium, outer, interior,
     shadow ray starts in the medium on its side of the surface, passes null surfaces
     and scales fv by the transmittance."""
     if not has_media:
-        return not occluded(ox, oy, oz, wx, wy, wz, 0.0, tmax, nodes, tris, stack)
+        return not trace_occluded(ox, oy, oz, wx, wy, wz, 0.0, tmax, nodes, tris, stack)
     if (cos_n > 0.0) != (cos_i > 0.0):
         medium, outer = crossed(medium, outer, interior, cos_n < 0.0)
     if not shadow(ox, oy, oz, wx, wy, wz, tmax, medium, outer, lam, mw, nodes, tris,

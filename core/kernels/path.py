@@ -25,7 +25,7 @@ from ..bsdfs.params import ALPHA_MIN, BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE,
 from ..bsdfs.phong import lambert_sample_dir
 from . import media
 from . import textures as tex
-from .bvh import STACK_SIZE, closest_hit
+from .bvh import STACK_SIZE, trace_closest
 from .camera import camera_ray
 from .lights import env_lookup, env_sample, hit_light, sample_light, sun_hit
 from ..sampling.qmc import pixel_seed, qmc_sample
@@ -568,7 +568,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 if has_media:
                     media.start_path(med_tab, medium, lam, mw)
                 while True:
-                    t, prim, bu, bv = closest_hit(ox, oy, oz, dx, dy, dz, t_lo, np.inf,
+                    t, prim, bu, bv = trace_closest(ox, oy, oz, dx, dy, dz, t_lo, np.inf,
                                                   nodes, tris, stack)
                     t_end = t
                     if medium >= 0:

@@ -638,7 +638,8 @@ def _rows(prep, film, y0, y1, s0, s1):
                 prep.world_row, prep.world_emit, film.spectral, film.aov, prep.tri_nrm, prep.spec_alb, int(st.sampler),
                 int(st.spp), prep.mat_medium, prep.med_tab, prep.med_g, int(prep.cam_medium),
                 int(bool(st.next_event)), prep.tri_flag, int(prep.sensor_mat), int(prep.film_transparent),
-                prep.tri_tex, prep.tex_data, prep.tex_info, prep.mat_tex, prep.mat_nstr, int(prep.tex_row))
+                prep.tri_tex, prep.tex_data, prep.tex_info, prep.mat_tex, prep.mat_nstr, int(prep.tex_row),
+                float(st.tri_solid_angle_min), float(st.tri_solid_angle_max))
 
 
 def thread_count(threads=None):

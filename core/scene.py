@@ -262,7 +262,7 @@ class World:
 
 # Default solid-angle range (sr) in which emissive triangles are sampled as spherical
 # triangles (RenderSettings.tri_solid_angle_min/max; chosen by benchmarks/sphtri_bench.py).
-TRI_SOLID_ANGLE_MIN = 3e-4
+TRI_SOLID_ANGLE_MIN = 0.1
 TRI_SOLID_ANGLE_MAX = 6.22
 
 

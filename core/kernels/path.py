@@ -199,7 +199,8 @@ def _triangle_sample(tp, ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_
     hgt = (px - v0[tp, 0]) * lnx + (py - v0[tp, 1]) * lny + (pz - v0[tp, 2]) * lnz
     if ll == 0.0 or hgt == 0.0 or (hgt < 0.0 and mat_emis_two[lm] == 0):
         return 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, mat_emis[lm], 0.0
-    if sph_lo <= sph_hi:
+    # Ω ≤ A / h² (h: p's distance to the plane): most small, far emitters never call the branch
+    if sph_lo <= sph_hi and ll * ll * ll >= 2.0 * sph_lo * hgt * hgt:
         om, wx, wy, wz = _sph_triangle(np.int64(tp), px, py, pz, v0, e1, e2, sph_lo, sph_hi, ua, ub)
         if om > 0.0:
             # distance to the triangle's plane along w
@@ -629,7 +630,8 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                             # the light pdf of this direction under the NEE's rule for (origin,
                             # triangle): 1/Ω when it samples the solid angle, else by area
                             om = 0.0
-                            if sph_lo <= sph_hi:
+                            hp = (ox - v0[prim, 0]) * nx + (oy - v0[prim, 1]) * ny + (oz - v0[prim, 2]) * nz
+                            if sph_lo <= sph_hi and area >= sph_lo * hp * hp:  # Ω ≤ A / h², as in the NEE
                                 # np.int64: one signature of _sph_triangle for every caller
                                 om, _wx, _wy, _wz = _sph_triangle(np.int64(prim), ox, oy, oz, v0, e1, e2, sph_lo, sph_hi,
                                                                   -1.0, 0.0)

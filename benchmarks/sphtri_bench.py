@@ -14,9 +14,9 @@ estimate the same image), at equal samples per pixel and at equal CPU time (the
 solid-angle render gets the samples per pixel that fit in the area render's CPU time, from
 the CPU time per sample of the equal-spp runs), plus the efficiency ratio 1/(T σ²)
 (item 29). One thread, CPU time (process_time), so other jobs on the machine matter less.
-The independent sampler throughout: the default stratified sampler's error does not fall
-smoothly with non-power-of-two sample counts (the Cornell lamp's edge pixels), which would
-blur the equal-time comparison; the same seed for every strategy (common random numbers).
+The independent sampler unless ``--sampler 3``: the default stratified sampler's error does
+not fall smoothly with non-power-of-two sample counts (the Cornell lamp's edge pixels), which
+blurs the equal-time comparison; the same seed for every strategy (common random numbers).
 
 Scenes:
 
@@ -114,7 +114,11 @@ SWEEP = [AREA_ONLY, (1e-6, 6.22), (0.01, 6.22), (0.03, 6.22), (0.1, 6.22), (0.3,
          (0.1, 4.0), (0.1, 2 * np.pi)]
 
 
-def render(make, res, spp, rule, seed, sampler=C.SAMPLER_INDEPENDENT):
+SAMPLER = [C.SAMPLER_INDEPENDENT]
+
+
+def render(make, res, spp, rule, seed, sampler=None):
+    sampler = SAMPLER[0] if sampler is None else sampler
     sc = make(res, spp, seed=seed)
     sc.settings.sampler = sampler
     sc.settings.tri_solid_angle_min, sc.settings.tri_solid_angle_max = rule
@@ -153,9 +157,13 @@ def main():
     ap.add_argument("--scenes", default="cornell,panel,panel-direct,panel8")
     ap.add_argument("--sweep", action="store_true")
     ap.add_argument("--no-cost", action="store_true")
+    ap.add_argument("--sampler", type=int, default=C.SAMPLER_INDEPENDENT,
+                    help="0 independent (default here), 3 stratified (the renderer's default)")
     a = ap.parse_args()
+    SAMPLER[0] = a.sampler
     render(cornell_scene, 8, 1, DEFAULT, 0)  # compile
-    print(f"rule: solid angle in [{DEFAULT[0]:g}, {DEFAULT[1]:g}] sr; {a.res}² px, 1 thread, CPU time")
+    print(f"rule: solid angle in [{DEFAULT[0]:g}, {DEFAULT[1]:g}] sr; {a.res}² px, sampler {a.sampler}, 1 thread, "
+          "CPU time")
     for name in a.scenes.split(","):
         make = SCENES[name]
         ra, _ = render(make, a.res, a.ref_spp // 2, AREA_ONLY, 101)

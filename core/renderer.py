@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import constants as C
-from . import presets
+from . import presets, warmup
 from .accel import build as build_bvh
 from .film import Film
 from .scene import Material, Scene, SceneError, validate
@@ -723,7 +723,17 @@ def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_
     """
     say = status or (lambda text: None)
     n_threads = thread_count(threads)
-    say("Preparing scene")
+    # a cold cache: a second process compiles part of the kernel's helpers meanwhile
+    helper = warmup.start()
+    try:
+        return _render(scene, n_threads, say, helper, progress, should_cancel, on_pass, spectral_bins, resume,
+                       measure)
+    finally:
+        warmup.finish(helper)
+
+
+def _render(scene, n_threads, say, helper, progress, should_cancel, on_pass, spectral_bins, resume, measure):
+    say("Preparing scene" if helper is None else "Compiling kernels (first run only): preparing scene")
     prep = prepare(scene, measure=measure)
     cam = scene.camera
     if resume is not None:
@@ -750,10 +760,13 @@ def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_
         gc_was_on = gc.isenabled()
         gc.disable()
         try:
+            if helper is not None:  # this process's share of the helpers, then the kernel
+                warmup.compile_group(False)
             run_pass(prep, Film(1, 1, observer=scene.settings.observer), 0, 1)
         finally:
             if gc_was_on:
                 gc.enable()
+        warmup.finish(helper)
         t_compile = time.perf_counter() - tc
     say("Rendering")
     pool = ThreadPoolExecutor(max_workers=n_threads, thread_name_prefix="spectral-gi") if n_threads > 1 else None

@@ -61,45 +61,45 @@ EPS_REL = 1e-5
 
 
 @function
-def qmc_dimension(sampler, index, dim, pseed, n):
-    """Dimension ``dim`` of sample ``index`` of an Owen-scrambled Halton or Hammersley set
-    (of ``n`` points) randomised per pixel by ``pseed``. Compiled as a function of its own:
-    inlined at every call site of the path kernel it would multiply its compile time."""
+def sample_dimension(sampler, index, dim, pseed, n):
+    """Dimension ``dim`` of sample ``index`` of the low-discrepancy samplers, for the pixel
+    with seed ``pseed``: the stratified sampler's pixel-filter pair (dimensions 1, 2) from a
+    digitally shifted Sobol (0, 2) sequence (stratified positions in the pixel: what makes
+    edges of bright emitters converge), its lens pair 3-4 and then pairs 2k, 2k + 1 (so the
+    light and BSDF pairs of the first bounces are aligned) each from its own scrambled and
+    shuffled (0, 2)-sequence; or dimension ``dim`` of an Owen-scrambled Halton or
+    Hammersley set of ``n`` points. Compiled as a function of its own: the path kernel
+    draws a number at some twenty places, and inlined at each of them this code would
+    multiply the kernel's compile time."""
+    if sampler == C.SAMPLER_STRATIFIED:
+        if dim == 1 or dim == 2:
+            return sobol_02(index, dim - 1, shift_32(pseed, dim))
+        if dim == 3 or dim == 4:
+            return sobol_pair(index, dim - 3, pseed, 1)
+        return sobol_pair(index, dim & 1, pseed, dim >> 1)
     return qmc_sample(sampler, RANDOMIZE_OWEN, index, dim, pseed, n)
-
-
-@function
-def stratified_dimension(index, dim, pseed):
-    """Dimension ``dim`` (not 1, 2) of the stratified sampler: the lens pair 3-4, then pairs
-    2k, 2k + 1 (so the light and BSDF pairs of the first bounces are aligned), each from
-    its own scrambled and shuffled (0, 2)-sequence. A function of its own: inlined at every
-    call site it would multiply the path kernel's compile time."""
-    if dim == 3 or dim == 4:
-        return sobol_pair(index, dim - 3, pseed, 1)
-    return sobol_pair(index, dim & 1, pseed, dim >> 1)
 
 
 @inline
 def rnd(sampler, key, pseed, index, dim, n):
-    """The path's sample in dimension ``dim``: the counter RNG for the independent sampler,
-    else the low-discrepancy point (whose dimensions past the prime table fall back to a
-    hash of (pixel seed, index, dimension), as pbrt's samplers do)."""
-    if sampler == SAMPLER_INDEPENDENT:
-        return uniform(key, dim)
-    if sampler == C.SAMPLER_STRATIFIED:
-        # the pixel-filter pair (dimensions 1, 2) from a digitally shifted Sobol (0, 2)
-        # sequence (stratified positions in the pixel: what makes edges of bright emitters
-        # converge), every other pair of the first two bounces from its own scrambled,
-        # shuffled copy; deeper dimensions, which carry little of the image's variance,
-        # from the counter RNG (each stratified dimension costs a function call)
-        if dim == 1 or dim == 2:
-            return sobol_02(index, dim - 1, shift_32(pseed, dim))
-        if dim < STRATIFIED_DIMS:
-            return stratified_dimension(np.int64(index), np.int64(dim), pseed)
+    """The path's sample in dimension ``dim``: the counter RNG for the independent sampler
+    and for the stratified sampler's dimensions past the first two bounces (which carry
+    little of the image's variance), else the low-discrepancy point (whose dimensions past
+    the prime table fall back to a hash of (pixel seed, index, dimension), as pbrt's
+    samplers do). Only the hash is inlined; the rest is one call."""
+    if sampler == SAMPLER_INDEPENDENT or (sampler == C.SAMPLER_STRATIFIED and dim >= STRATIFIED_DIMS):
         return uniform(key, dim)
     # np.int64(...): a literal dimension (0 ... 4 at the camera) would otherwise compile
-    # one specialisation of qmc_dimension per literal value
-    return qmc_dimension(sampler, np.int64(index), np.int64(dim), pseed, np.int64(n))
+    # one specialisation per literal value
+    return sample_dimension(sampler, np.int64(index), np.int64(dim), pseed, np.int64(n))
+
+
+@function
+def rnd_f(sampler, key, pseed, index, dim, n):
+    """``rnd`` as a function call: for the draws made once per sample or per medium event,
+    so that only the hot surface draws are inlined into the path kernel (each inlined
+    draw adds to its compile time)."""
+    return rnd(sampler, key, pseed, np.int64(index), np.int64(dim), np.int64(n))
 
 
 @inline
@@ -307,12 +307,167 @@ def _lambert_sample(pm, ra, woz, u1, u2, fv):
 
 
 @inline
-def _lookup_material(m, lam, spec, ior_tab, mat_ra, mat_rb, mat_eta, mat_kappa, mat_ior, ra, rb, eta, kappa):
+def lam_cell(lam):
+    """The 1 nm grid cell and fraction of wavelength ``lam``, clamped as ``lookup`` clamps:
+    a path's wavelengths are fixed, so the path kernel finds them once per path and reads
+    every spectrum with ``at`` (the same values as ``lookup``, without its branches)."""
+    x = (lam - LMIN) / LSTEP
+    i = int(x)
+    if i < 0:
+        return 0, 0.0
+    if i >= NL - 1:
+        return NL - 2, 1.0
+    return i, x - i
+
+
+@inline
+def at(table, row, li, lf):
+    """Row ``row`` of a (rows, N_LAMBDA) table at the wavelength of cell ``li``, fraction ``lf``."""
+    return table[row, li] * (1.0 - lf) + table[row, li + 1] * lf
+
+
+@inline
+def _lookup_material(m, lc, lf, spec, ior_tab, mat_ra, mat_rb, mat_eta, mat_kappa, mat_ior, ra, rb, eta, kappa):
+    r_a = mat_ra[m]
+    r_b = mat_rb[m]
+    r_e = mat_eta[m]
+    r_k = mat_kappa[m]
     for i in range(NW):
-        ra[i] = lookup(spec, mat_ra[m], lam[i]) if mat_ra[m] >= 0 else 0.0
-        rb[i] = lookup(spec, mat_rb[m], lam[i]) if mat_rb[m] >= 0 else 1.0
-        eta[i] = lookup(ior_tab, mat_eta[m], lam[i]) if mat_eta[m] >= 0 else mat_ior[m]
-        kappa[i] = lookup(ior_tab, mat_kappa[m], lam[i]) if mat_kappa[m] >= 0 else 0.0
+        ra[i] = at(spec, r_a, lc[i], lf[i]) if r_a >= 0 else 0.0
+        rb[i] = at(spec, r_b, lc[i], lf[i]) if r_b >= 0 else 1.0
+        eta[i] = at(ior_tab, r_e, lc[i], lf[i]) if r_e >= 0 else mat_ior[m]
+        kappa[i] = at(ior_tab, r_k, lc[i], lf[i]) if r_k >= 0 else 0.0
+
+
+@function
+def _light_hits(sensing, depth, blocked, t_end, t_lo, ox, oy, oz, dx, dy, dz, full_weight, prev_pdf, medium, mw,
+                beta, rad, lc, lf, spec, light_kind, light_geo, light_prof, light_spec, light_scale,
+                light_two_sided, light_visible, emit_prob):
+    """Add the emission of the analytic lights the ray (ox, d) meets before t_end to ``rad``
+    (they are hit for their emission and never occlude, as in Cycles). ``sensing``: a
+    camera ray of the measuring pass (lights unseen); ``blocked``: the ray hit a surface
+    or scattered in a medium (the sun, at infinity, is not reached); ``full_weight``: the
+    previous vertex was a delta event or NEE is off (weight 1, else the power heuristic
+    against the light's NEE pdf; the analytic lights are the last entries of the emitter
+    table)."""
+    n_lights = light_kind.shape[0]
+    n_emit = emit_prob.shape[0]
+    for li in range(n_lights):
+        if depth == 0 and (light_visible[li] == 0 or sensing):
+            continue
+        lk = light_kind[li]
+        if lk == C.LIGHT_SUN:
+            if blocked:
+                continue
+            fac, lpdf = sun_hit(light_geo, li, dx, dy, dz)
+            tl = np.inf
+        else:
+            tl, fac, lpdf = hit_light(lk, light_geo, light_prof, li, light_two_sided[li] != 0,
+                                      ox, oy, oz, dx, dy, dz, t_end)
+            if tl == np.inf or tl <= t_lo:
+                continue
+        if fac <= 0.0:
+            continue
+        w = 1.0
+        if not full_weight:
+            w = power_heuristic(prev_pdf, emit_prob[n_emit - n_lights + li] * lpdf)
+        media.arrival(medium, mw, tl - t_lo)
+        for i in range(NW):
+            rad[i] += beta[i] * w * fac * light_scale[li] * at(spec, light_spec[li], lc[i], lf[i]) \
+                * mw[media.MW_TR, i]
+
+
+@function
+def _world_hit(dx, dy, dz, full_weight, prev_pdf, beta, rad, lc, lf, spec, world_spec, world_scale, world_img,
+               world_dist, world_par, world_row, world_emit, emit_prob):
+    """Add the world's radiance seen along d to ``rad``: the equirectangular image (MIS
+    weighted against its NEE pdf unless ``full_weight``) or the constant spectrum."""
+    if world_par[3] > 0.0:
+        ti, tj, wpdf = env_lookup(world_dist, world_par, world_img.shape[1], world_img.shape[0], dx, dy, dz)
+        w = 1.0
+        if not full_weight and world_emit >= 0:
+            w = power_heuristic(prev_pdf, emit_prob[world_emit] * wpdf)
+        cr = w * world_par[2] * world_img[tj, ti, 0]
+        cg = w * world_par[2] * world_img[tj, ti, 1]
+        cb = w * world_par[2] * world_img[tj, ti, 2]
+        for i in range(NW):
+            rad[i] += beta[i] * (cr * at(spec, world_row, lc[i], lf[i]) + cg * at(spec, world_row + 1, lc[i], lf[i])
+                                 + cb * at(spec, world_row + 2, lc[i], lf[i]))
+    elif world_spec >= 0:
+        for i in range(NW):
+            rad[i] += beta[i] * world_scale * at(spec, world_spec, lc[i], lf[i])
+
+
+@function
+def _textures(m, prim, bu, bv, snx, sny, snz, dx, dy, dz, cos_i, pm, pm_tex, ra, lc, lf, spec, tex_row, tri_tex,
+              tex_data, tex_info, mat_tex, mat_nstr):
+    """Material ``m``'s image textures at the hit (prim, bu, bv): the base colour texel's
+    rgb uplifted into ``ra`` (ρ(λ) = r B_r + g B_g + b B_b, Mallett–Yuksel, basis rows
+    tex_row..), the roughness texel as GGX α = roughness² on both axes in a copy of the
+    parameter row ``pm`` written to ``pm_tex``, and the normal map applied to the shading
+    normal, kept only on the side the ray comes from (as the interpolated normal).
+    Returns (base colour textured, roughness textured, r, g, b, shading normal)."""
+    t_base = mat_tex[m, 0]
+    t_rough = mat_tex[m, 1]
+    t_nrm = mat_tex[m, 2]
+    tu, tv = tex.hit_uv(tri_tex, prim, bu, bv)
+    cr = 0.0
+    cg = 0.0
+    cb = 0.0
+    if t_base >= 0:
+        cr, cg, cb = tex.sample(tex_data, tex_info, t_base, tu, tv)
+        for i in range(NW):
+            ra[i] = (cr * at(spec, tex_row, lc[i], lf[i]) + cg * at(spec, tex_row + 1, lc[i], lf[i])
+                     + cb * at(spec, tex_row + 2, lc[i], lf[i]))
+    if t_rough >= 0:
+        rr, _g, _b = tex.sample(tex_data, tex_info, t_rough, tu, tv)
+        for k in range(pm_tex.shape[0]):
+            pm_tex[k] = pm[k]
+        pm_tex[1] = max(rr * rr, ALPHA_MIN)
+        pm_tex[2] = pm_tex[1]
+    if t_nrm >= 0:
+        nr_, ng_, nb_ = tex.sample(tex_data, tex_info, t_nrm, tu, tv)
+        qx, qy, qz = tex.perturb_normal(tri_tex, prim, snx, sny, snz, nr_, ng_, nb_, mat_nstr[m])
+        if -(qx * dx + qy * dy + qz * dz) * cos_i > 0.0:
+            snx = qx
+            sny = qy
+            snz = qz
+    return t_base >= 0, t_rough >= 0, cr, cg, cb, snx, sny, snz
+
+
+@function
+def _splat(film, spectral, y, x, rad, pdf_lam, lam, cmf, photometric):
+    """Add the path's spectral radiance estimate to pixel (x, y): CIE XYZ, the sample count
+    and the sum of Y² (or, when ``photometric``, the V(λ)-weighted Y and its square), and
+    the spectral bins."""
+    n_bins = spectral.shape[2]
+    bin_width = (LMAX - LMIN) / max(n_bins, 1)
+    X = 0.0
+    Y = 0.0
+    Z = 0.0
+    V = 0.0
+    for i in range(NW):
+        if pdf_lam[i] > 0.0:
+            v = rad[i] / (pdf_lam[i] * NW)
+            X += v * lookup_cmf(cmf, 0, lam[i])
+            Y += v * lookup_cmf(cmf, 1, lam[i])
+            Z += v * lookup_cmf(cmf, 2, lam[i])
+            if photometric:
+                V += v * lookup_cmf(cmf, 3, lam[i])
+            if n_bins > 0:
+                b = int((lam[i] - LMIN) / bin_width)
+                if b >= n_bins:
+                    b = n_bins - 1
+                spectral[y, x, b] += v / bin_width
+    film[y, x, 0] += X
+    film[y, x, 1] += Y
+    film[y, x, 2] += Z
+    film[y, x, 3] += 1.0
+    if photometric:
+        film[y, x, 4] += V * V
+        film[y, x, 5] += V
+    else:
+        film[y, x, 4] += Y * Y
 
 
 @kernel
@@ -406,8 +561,6 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
     """
     height = film.shape[0]
     width = film.shape[1]
-    n_bins = spectral.shape[2]
-    bin_width = (LMAX - LMIN) / max(n_bins, 1)
     n_emit = emit_prob.shape[0]
     n_lights = light_kind.shape[0]
     # nee = 0: the naive reference integrator (BSDF and phase sampling only, every emitter hit
@@ -433,27 +586,30 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
         fv = np.empty(NW)
         le = np.empty(NW)
         mw = np.empty((media.MW_ROWS, NW))
+        lc = np.empty(NW, np.int64)
+        lf = np.empty(NW)
         for x in range(width):
             pix = y * width + x
             pseed = pixel_seed(seed, pix)
             for s in range(s0, s1):
                 key = path_key(seed, pix, s)
-                u0 = rnd(sampler, key, pseed, s, 0, n_total)
+                u0 = rnd_f(sampler, key, pseed, s, np.int64(0), n_total)
                 for i in range(NW):
                     up = u0 + i / NW
                     if up >= 1.0:
                         up -= 1.0
                     lam[i] = sample_visible(up)
+                    lc[i], lf[i] = lam_cell(lam[i])
                     pdf_lam[i] = visible_pdf(lam[i])
                     beta[i] = 1.0
                     rad[i] = 0.0
                 # camera ray: dimensions 1-2 the pixel filter, 3-4 the lens
                 ox, oy, oz, dx, dy, dz = camera_ray(cam, filt, x, y, width, height,
-                                                    rnd(sampler, key, pseed, s, 1, n_total),
-                                                    rnd(sampler, key, pseed, s, 2, n_total),
-                                                    rnd(sampler, key, pseed, s, 3, n_total),
-                                                    rnd(sampler, key, pseed, s, 4, n_total))
-                dim = 5
+                                                    rnd_f(sampler, key, pseed, s, np.int64(1), n_total),
+                                                    rnd_f(sampler, key, pseed, s, np.int64(2), n_total),
+                                                    rnd_f(sampler, key, pseed, s, np.int64(3), n_total),
+                                                    rnd_f(sampler, key, pseed, s, np.int64(4), n_total))
+                dim = np.int64(5)
                 depth = 0
                 prev_pdf = 0.0
                 prev_delta = True  # the camera ray: emitters seen directly get full weight
@@ -473,32 +629,14 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                                                   bmin, bmax, child, count, axis, v0, e1, e2, stack)
                     t_end = t
                     if medium >= 0:
-                        t_end = min(t, t_lo + media.free_flight(medium, mw, rnd(sampler, key, pseed, s, dim, n_total)))
+                        t_end = min(t, t_lo + media.free_flight(medium, mw, rnd_f(sampler, key, pseed, s, dim, n_total)))
                         dim += 1
                     # analytic lights: hit for their emission, never occluders (as in Cycles)
-                    for li in range(n_lights):
-                        if depth == 0 and (light_visible[li] == 0 or sensor_mat >= 0):
-                            continue
-                        lk = light_kind[li]
-                        if lk == C.LIGHT_SUN:
-                            if prim >= 0 or t_end < t:
-                                continue
-                            fac, lpdf = sun_hit(light_geo, li, dx, dy, dz)
-                            tl = np.inf
-                        else:
-                            tl, fac, lpdf = hit_light(lk, light_geo, light_prof, li, light_two_sided[li] != 0,
-                                                      ox, oy, oz, dx, dy, dz, t_end)
-                            if tl == np.inf or tl <= t_lo:
-                                continue
-                        if fac <= 0.0:
-                            continue
-                        w = 1.0
-                        if not prev_delta and do_nee:
-                            w = power_heuristic(prev_pdf, emit_prob[n_emit - n_lights + li] * lpdf)
-                        media.arrival(medium, mw, tl - t_lo)
-                        for i in range(NW):
-                            rad[i] += beta[i] * w * fac * light_scale[li] * lookup(spec, light_spec[li], lam[i]) \
-                                * mw[media.MW_TR, i]
+                    if n_lights > 0:
+                        _light_hits(depth == 0 and sensor_mat >= 0, np.int64(depth), prim >= 0 or t_end < t, t_end, t_lo,
+                                    ox, oy, oz, dx, dy, dz, prev_delta or not do_nee, prev_pdf, medium, mw, beta, rad,
+                                    lc, lf, spec, light_kind, light_geo, light_prof, light_spec, light_scale,
+                                    light_two_sided, light_visible, emit_prob)
                     if medium >= 0:
                         if t_end < t:  # a scattering event in the medium
                             media.segment(medium, mw, beta, t_end - t_lo, t_end < t)  # True here, not as a literal
@@ -509,10 +647,10 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                             pz = oz + t_end * dz
                             g = med_g[medium]
                             if do_nee:
-                                ei = media.pick(emit_cdf, n_emit, rnd(sampler, key, pseed, s, dim, n_total))
+                                ei = media.pick(emit_cdf, n_emit, rnd_f(sampler, key, pseed, s, dim, n_total))
                                 wx, wy, wz, dist, lpdf, fac = _emitter_sample(
-                                    ei, rnd(sampler, key, pseed, s, dim + 1, n_total),
-                                    rnd(sampler, key, pseed, s, dim + 2, n_total), px, py, pz, lam, le, v0, e1, e2,
+                                    ei, rnd_f(sampler, key, pseed, s, dim + 1, n_total),
+                                    rnd_f(sampler, key, pseed, s, dim + 2, n_total), px, py, pz, lam, le, v0, e1, e2,
                                     tri_mat, mat_emis, mat_emis_scale, mat_emis_two, spec, light_kind, light_geo,
                                     light_prof, light_spec, light_scale, light_two_sided, emit_tri, emit_light,
                                     world_img,
@@ -522,8 +660,8 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                                           e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack)
                             dim += 3
                             dx, dy, dz, prev_pdf = media.hg_sample(g, dx, dy, dz,
-                                                                   rnd(sampler, key, pseed, s, dim, n_total),
-                                                                   rnd(sampler, key, pseed, s, dim + 1, n_total))
+                                                                   rnd_f(sampler, key, pseed, s, dim, n_total),
+                                                                   rnd_f(sampler, key, pseed, s, dim + 1, n_total))
                             dim += 2
                             prev_delta = False
                             ox = px
@@ -536,7 +674,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                                 break
                             if depth >= rr_depth:
                                 if q < 1.0:
-                                    if rnd(sampler, key, pseed, s, dim, n_total) >= q:
+                                    if rnd_f(sampler, key, pseed, s, dim, n_total) >= q:
                                         break
                                     for i in range(NW):
                                         beta[i] /= q
@@ -547,22 +685,10 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                         if depth == 0 and (film_transparent != 0 or sensor_mat >= 0):
                             transp = 1.0
                             break
-                        if world_par[3] > 0.0:
-                            ti, tj, wpdf = env_lookup(world_dist, world_par, world_img.shape[1], world_img.shape[0],
-                                                      dx, dy, dz)
-                            w = 1.0
-                            if not prev_delta and do_nee and world_emit >= 0:
-                                w = power_heuristic(prev_pdf, emit_prob[world_emit] * wpdf)
-                            cr = w * world_par[2] * world_img[tj, ti, 0]
-                            cg = w * world_par[2] * world_img[tj, ti, 1]
-                            cb = w * world_par[2] * world_img[tj, ti, 2]
-                            for i in range(NW):
-                                rad[i] += beta[i] * (cr * lookup(spec, world_row, lam[i])
-                                                     + cg * lookup(spec, world_row + 1, lam[i])
-                                                     + cb * lookup(spec, world_row + 2, lam[i]))
-                        elif world_spec >= 0:
-                            for i in range(NW):
-                                rad[i] += beta[i] * world_scale * lookup(spec, world_spec, lam[i])
+                        if world_par[3] > 0.0 or world_spec >= 0:
+                            _world_hit(dx, dy, dz, prev_delta or not do_nee, prev_pdf, beta, rad, lc, lf, spec,
+                                       world_spec, world_scale, world_img, world_dist, world_par, world_row,
+                                       world_emit, emit_prob)
                         break
                     px = ox + t * dx
                     py = oy + t * dy
@@ -641,7 +767,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                                 pl = emit_prob[tri_emitter[prim]] * t * t / (area * abs(cos_i))
                             w = power_heuristic(prev_pdf, pl)
                         for i in range(NW):
-                            rad[i] += beta[i] * w * mat_emis_scale[m] * lookup(spec, mat_emis[m], lam[i])
+                            rad[i] += beta[i] * w * mat_emis_scale[m] * at(spec, mat_emis[m], lc[i], lf[i])
                     if depth > max_depth:
                         break
                     # mixes: pick one component (Mix: by weight; Add: either, counted twice)
@@ -649,10 +775,10 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     for _ in range(C.MIX_DEPTH):
                         mm = mat_model[m]
                         if mm == C.MAT_MIX:
-                            m = int(mat_p[m, 1]) if rnd(sampler, key, pseed, s, dim, n_total) < mat_p[m, 0] else int(mat_p[m, 2])
+                            m = int(mat_p[m, 1]) if rnd_f(sampler, key, pseed, s, dim, n_total) < mat_p[m, 0] else int(mat_p[m, 2])
                             dim += 1
                         elif mm == C.MAT_ADD:
-                            m = int(mat_p[m, 1]) if rnd(sampler, key, pseed, s, dim, n_total) < 0.5 else int(mat_p[m, 2])
+                            m = int(mat_p[m, 1]) if rnd_f(sampler, key, pseed, s, dim, n_total) < 0.5 else int(mat_p[m, 2])
                             mix_w *= 2.0
                             dim += 1
                         else:
@@ -661,40 +787,19 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     if model == C.MAT_MIX or model == C.MAT_ADD:
                         break
                     pm = mat_p[m]
-                    _lookup_material(m, lam, spec, ior_tab, mat_ra, mat_rb, mat_eta, mat_kappa, mat_ior,
+                    _lookup_material(m, lc, lf, spec, ior_tab, mat_ra, mat_rb, mat_eta, mat_kappa, mat_ior,
                                      ra, rb, eta, kappa)
                     tex_base = False
                     cr = 0.0
                     cg = 0.0
                     cb = 0.0
                     if has_tex:
-                        t_base = mat_tex[m, 0]
-                        t_rough = mat_tex[m, 1]
-                        t_nrm = mat_tex[m, 2]
-                        if t_base >= 0 or t_rough >= 0 or t_nrm >= 0:
-                            tu, tv = tex.hit_uv(tri_tex, prim, bu, bv)
-                            if t_base >= 0:  # ρ(λ) = r B_r + g B_g + b B_b (Mallett–Yuksel)
-                                tex_base = True
-                                cr, cg, cb = tex.sample(tex_data, tex_info, t_base, tu, tv)
-                                for i in range(NW):
-                                    ra[i] = (cr * lookup(spec, tex_row, lam[i]) + cg * lookup(spec, tex_row + 1, lam[i])
-                                             + cb * lookup(spec, tex_row + 2, lam[i]))
-                            if t_rough >= 0:  # GGX α = roughness² on both axes (slots 1, 2)
-                                rr, _g, _b = tex.sample(tex_data, tex_info, t_rough, tu, tv)
-                                for k in range(pm_tex.shape[0]):
-                                    pm_tex[k] = pm[k]
-                                pm_tex[1] = max(rr * rr, ALPHA_MIN)
-                                pm_tex[2] = pm_tex[1]
+                        if mat_tex[m, 0] >= 0 or mat_tex[m, 1] >= 0 or mat_tex[m, 2] >= 0:
+                            tex_base, rough, cr, cg, cb, snx, sny, snz = _textures(
+                                m, np.int64(prim), bu, bv, snx, sny, snz, dx, dy, dz, cos_i, pm, pm_tex, ra, lc, lf, spec,
+                                tex_row, tri_tex, tex_data, tex_info, mat_tex, mat_nstr)
+                            if rough:
                                 pm = pm_tex
-                            if t_nrm >= 0:
-                                nr_, ng_, nb_ = tex.sample(tex_data, tex_info, t_nrm, tu, tv)
-                                qx, qy, qz = tex.perturb_normal(tri_tex, prim, snx, sny, snz, nr_, ng_, nb_,
-                                                                mat_nstr[m])
-                                # kept only on the side the ray comes from (as the interpolated normal)
-                                if -(qx * dx + qy * dy + qz * dz) * cos_i > 0.0:
-                                    snx = qx
-                                    sny = qy
-                                    snz = qz
                     # local frame around the shading normal (Duff et al. 2017)
                     sgn = 1.0 if snz >= 0.0 else -1.0
                     aa = -1.0 / (sgn + snz)
@@ -733,7 +838,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                                 emit_tri[ei], ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale,
                                 mat_emis_two, sph_lo, sph_hi)
                             for i in range(NW):
-                                le[i] = l_scale * lookup(spec, l_row, lam[i])
+                                le[i] = l_scale * at(spec, l_row, lc[i], lf[i])
                         else:
                             wx, wy, wz, dist, lpdf, fac = _emitter_sample(
                                 ei, ua, ub, px, py, pz, lam, le, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale,
@@ -812,38 +917,12 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                         break
                     if depth >= rr_depth:
                         if q < 1.0:
-                            if rnd(sampler, key, pseed, s, dim, n_total) >= q:
+                            if rnd_f(sampler, key, pseed, s, dim, n_total) >= q:
                                 break
                             for i in range(NW):
                                 beta[i] /= q
                         dim += 1
-                # to XYZ
-                X = 0.0
-                Y = 0.0
-                Z = 0.0
-                V = 0.0
-                for i in range(NW):
-                    if pdf_lam[i] > 0.0:
-                        v = rad[i] / (pdf_lam[i] * NW)
-                        X += v * lookup_cmf(cmf, 0, lam[i])
-                        Y += v * lookup_cmf(cmf, 1, lam[i])
-                        Z += v * lookup_cmf(cmf, 2, lam[i])
-                        if photometric:
-                            V += v * lookup_cmf(cmf, 3, lam[i])
-                        if n_bins > 0:
-                            b = int((lam[i] - LMIN) / bin_width)
-                            if b >= n_bins:
-                                b = n_bins - 1
-                            spectral[y, x, b] += v / bin_width
-                film[y, x, 0] += X
-                film[y, x, 1] += Y
-                film[y, x, 2] += Z
-                film[y, x, 3] += 1.0
-                if photometric:
-                    film[y, x, 4] += V * V
-                    film[y, x, 5] += V
-                else:
-                    film[y, x, 4] += Y * Y
+                _splat(film, spectral, y, x, rad, pdf_lam, lam, cmf, photometric)
                 aov[y, x, 0] += aX
                 aov[y, x, 1] += aY
                 aov[y, x, 2] += aZ

@@ -11,8 +11,8 @@ the triangles. ``n`` is chosen so the total is close to the requested number of 
 For each size it prints
 
 * the build time of ``accel.build`` (float32 corners in) and the time per million triangles,
-* the bytes per triangle the renderer keeps (``BVH.nbytes``: node arrays, leaf-order
-  triangles, ``prims``) and the peak extra resident memory of the build (VmHWM reset
+* the bytes per triangle the renderer keeps (``BVH.nbytes``: node records, leaf-order
+  triangles for traversal and shading, ``prims``) and the peak extra resident memory of the build (VmHWM reset
   through /proc/self/clear_refs just before it; the corner arrays already exist),
 * tree statistics (nodes, depth, mean leaf size, SAH cost),
 * closest-hit rays/s: ``--rays`` rays from 16 camera positions on a ring around the scene,
@@ -24,8 +24,10 @@ both with the batch kernels (``trace_closest_batch``, ``trace_occluded_batch``) 
 ``--threads`` threads, as wall-clock rates and per CPU second (the machine is shared:
 wall-clock rates drop when others run, rays per CPU second much less), and the ratio of
 each per-CPU-second rate to the smallest size's next to log2(N0)/log2(N): a throughput
-that falls only logarithmically keeps the ratio at or above that column. Compile time
-is excluded (kernels are warmed on a small scene first). No thresholds: the figures are
+that falls only logarithmically keeps the ratio at or above that column. All trees are
+built first; then each of ``--reps`` rounds times every size in turn and the best pass
+of each is kept, so load from other jobs strikes every size alike. Compile time is
+excluded (kernels are warmed on a small scene first). No thresholds: the figures are
 for reading.
 """
 import argparse
@@ -166,15 +168,25 @@ def tree_stats(bvh):
     """(depth, mean leaf size, SAH cost with unit traversal and intersection costs)."""
     from spectral_gi.core.accel import tree_depth
 
-    leaves = bvh.count > 0
-    ext = (bvh.bmax - bvh.bmin).astype(np.float64)
-    area = 2 * (ext[:, 0] * ext[:, 1] + ext[:, 1] * ext[:, 2] + ext[:, 2] * ext[:, 0])
-    rel = area / area[0]
-    cost = rel[~leaves].sum() + (rel[leaves] * bvh.count[leaves]).sum()
-    return tree_depth(bvh), bvh.count[leaves].mean(), cost
+    def area(box):
+        ext = (box[:, 3:6] - box[:, 0:3]).astype(np.float64)
+        return 2 * (ext[:, 0] * ext[:, 1] + ext[:, 1] * ext[:, 2] + ext[:, 2] * ext[:, 0])
+
+    lk = bvh.links
+    lo = np.minimum(bvh.nodes[0, 0:3], bvh.nodes[0, 6:9])
+    hi = np.maximum(bvh.nodes[0, 3:6], bvh.nodes[0, 9:12])
+    root = area(np.concatenate([lo, hi])[None])[0]
+    inner = 0.0
+    for side in (0, 1):  # every internal child, i.e. every record but the root's
+        sel = (lk[:, 13 + 2 * side] == 0) & (lk[:, 12 + 2 * side] >= 0)
+        inner += area(bvh.nodes[sel, 6 * side:6 * side + 6]).sum()
+    _, counts, boxes = bvh.leaves()
+    cost = (root + inner + (area(boxes) * counts).sum()) / root
+    return tree_depth(bvh), counts.mean(), cost
 
 
-def run(size_m, n_rays, reps=3):
+def build(size_m, n_rays):
+    """Scene, tree, statistics and rays of one size (timing comes later, interleaved)."""
     from spectral_gi.core import accel
     from spectral_gi.core.kernels import bvh as K
 
@@ -196,34 +208,39 @@ def run(size_m, n_rays, reps=3):
     cpu_build = time.thread_time() - c0
     t_build = time.perf_counter() - t0
     peak = _status("VmHWM") - base if ok else float("nan")
+    del v0, v1, v2
     depth, leaf, cost = tree_stats(bvh)
 
     o, d = camera_rays(n_rays)
     tm = np.full(n_rays, np.inf)
-    best = best_cpu = np.inf
-    for _ in range(reps):
-        t0 = time.perf_counter()
-        c0 = time.process_time()
-        t, p = K.trace_closest_batch(o, d, tm, bvh.bmin, bvh.bmax, bvh.child, bvh.count, bvh.axis,
-                                     bvh.v0, bvh.e1, bvh.e2)
-        best = min(best, time.perf_counter() - t0)
-        best_cpu = min(best_cpu, time.process_time() - c0)
-    closest_rate = n_rays / best
-    closest_cpu = n_rays / best_cpu
+    t, p = K.trace_closest_batch(o, d, tm, bvh.nodes, bvh.tris)
     so, sd, sdist = shadow_rays(o, d, t)
-    best = best_cpu = np.inf
-    for _ in range(reps):
-        t0 = time.perf_counter()
-        c0 = time.process_time()
-        occ = K.trace_occluded_batch(so, sd, sdist, bvh.bmin, bvh.bmax, bvh.child, bvh.count,
-                                     bvh.v0, bvh.e1, bvh.e2)
-        best = min(best, time.perf_counter() - t0)
-        best_cpu = min(best_cpu, time.process_time() - c0)
-    occ_rate = so.shape[0] / best
-    occ_cpu = so.shape[0] / best_cpu
-    return dict(n=n, build=t_build, build_cpu=cpu_build, closest_cpu=closest_cpu, occluded_cpu=occ_cpu, kept=bvh.nbytes / n, peak=peak / n, nodes=bvh.n_nodes, depth=depth,
-                leaf=leaf, cost=cost, hit=np.isfinite(t).mean(), occ=occ.mean(), closest=closest_rate,
-                occluded=occ_rate)
+    return dict(n=n, build=t_build, build_cpu=cpu_build, kept=bvh.nbytes / n, peak=peak / n,
+                nodes=bvh.n_nodes, depth=depth, leaf=leaf, cost=cost, hit=np.isfinite(t).mean(),
+                bvh=bvh, rays=(o, d, tm), shadow=(so, sd, sdist), closest=0.0, occluded=0.0,
+                closest_cpu=0.0, occluded_cpu=0.0)
+
+
+def time_round(r):
+    """One timed pass of each query over size ``r``; keeps the best rates seen."""
+    from spectral_gi.core.kernels import bvh as K
+
+    bvh = r["bvh"]
+    o, d, tm = r["rays"]
+    so, sd, sdist = r["shadow"]
+    t0 = time.perf_counter()
+    c0 = time.process_time()
+    K.trace_closest_batch(o, d, tm, bvh.nodes, bvh.tris)
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    r["closest"] = max(r["closest"], o.shape[0] / wall)
+    r["closest_cpu"] = max(r["closest_cpu"], o.shape[0] / cpu)
+    t0 = time.perf_counter()
+    c0 = time.process_time()
+    occ = K.trace_occluded_batch(so, sd, sdist, bvh.nodes, bvh.tris)
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    r["occluded"] = max(r["occluded"], so.shape[0] / wall)
+    r["occluded_cpu"] = max(r["occluded_cpu"], so.shape[0] / cpu)
+    r["occ"] = occ.mean()
 
 
 def main():
@@ -231,15 +248,18 @@ def main():
     ap.add_argument("--sizes", default="1,4,16", help="comma-separated millions of triangles")
     ap.add_argument("--rays", type=int, default=1_000_000)
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--reps", type=int, default=3, help="timing rounds (best kept)")
     args = ap.parse_args()
     from spectral_gi.core.jit import set_threads
 
     threads = set_threads(args.threads)
     sizes = [float(s) for s in args.sizes.split(",") if s.strip()]
-    rows = []
-    for s in sizes:
-        r = run(s, args.rays)
-        rows.append(r)
+    rows = [build(s, args.rays) for s in sizes]
+    # every round times every size, so a burst of load from other jobs hits all sizes alike
+    for _ in range(args.reps):
+        for r in rows:
+            time_round(r)
+    for r in rows:
         print(f"{r['n']:>10,d} tris: build {r['build']:6.2f} s ({r['build'] / r['n'] * 1e6:5.2f} s/M, "
               f"CPU {r['build_cpu']:.2f} s), "
               f"kept {r['kept']:5.1f} B/tri, peak build {r['peak']:5.1f} B/tri, {r['nodes']:,d} nodes, "
@@ -247,7 +267,8 @@ def main():
               f"closest {r['closest'] / 1e6:5.2f} Mrays/s (hit {r['hit']:.2f}), "
               f"occlusion {r['occluded'] / 1e6:5.2f} Mrays/s (blocked {r['occ']:.2f}); per CPU second: "
               f"closest {r['closest_cpu'] / 1e6:.2f} M, occlusion {r['occluded_cpu'] / 1e6:.2f} M", flush=True)
-    print(f"\n{threads} threads, {args.rays:,d} camera rays per pass (best of 3); rates are wall-clock, "
+    print(f"\n{threads} threads, {args.rays:,d} camera rays per pass (best of {args.reps} rounds, each over all "
+          "sizes in turn); rates are wall-clock, "
           "'/CPU-s' ones per CPU second of all threads (steadier on a shared machine); ratios use the latter")
     print("| triangles | build s (CPU s) | s per M | kept B/tri | peak build B/tri | depth | closest Mrays/s "
           "| occlusion Mrays/s | closest M/CPU-s | occlusion M/CPU-s | closest ratio | occlusion ratio "

@@ -8,28 +8,56 @@ from .kernels import bvh as K
 
 @dataclass
 class BVH:
-    bmin: np.ndarray
-    bmax: np.ndarray
-    child: np.ndarray
-    count: np.ndarray
-    axis: np.ndarray
+    nodes: np.ndarray  # float32 (R, 16), 64-byte aligned: packed records (kernels/bvh.py)
     prims: np.ndarray  # leaf order → original triangle index
-    v0: np.ndarray  # float32 (T, 3), leaf order: the first corner rounded to float32
-    e1: np.ndarray  # float64 (T, 3): exact v1 - v0 of the float32-rounded corners
+    tris: np.ndarray  # float32 (T, 9), leaf order: the float32-rounded corners v0, v1, v2
+    v0: np.ndarray  # float32 (T, 3), leaf order: the first corner rounded to float32 (shading)
+    e1: np.ndarray  # float64 (T, 3): exact v1 - v0 of the float32-rounded corners (shading)
     e2: np.ndarray
 
     @property
+    def links(self):
+        """int32 (R, 16) view of ``nodes``: columns L_REF, L_CNT, R_REF, R_CNT."""
+        return self.nodes.view(np.int32)
+
+    @property
+    def n_records(self):
+        return self.nodes.shape[0]
+
+    @property
     def n_nodes(self):
-        return self.bmin.shape[0]
+        """Nodes of the binary tree: the root and every child present in a record."""
+        lk = self.links
+        return 1 + int(np.count_nonzero(lk[:, K.L_REF] >= 0) + np.count_nonzero(lk[:, K.R_REF] >= 0))
+
+    def leaves(self):
+        """(first triangle, count, box (L, 6)) of every leaf, in record order."""
+        lk = self.links
+        firsts, counts, boxes = [], [], []
+        for side in (0, 1):
+            cnt = lk[:, K.L_CNT + 2 * side]
+            ref = lk[:, K.L_REF + 2 * side]
+            leaf = (cnt > 0) & (ref >= 0)
+            firsts.append(ref[leaf]); counts.append(cnt[leaf])
+            boxes.append(self.nodes[leaf, 6 * side:6 * side + 6])
+        return np.concatenate(firsts), np.concatenate(counts), np.concatenate(boxes)
 
     @property
     def nbytes(self):
-        """Bytes the renderer keeps: node arrays, leaf-order triangles and ``prims``.
+        """Bytes the renderer keeps: node records, leaf-order triangles and ``prims``.
 
-        At most 36 (2T - 1) + 64 T, i.e. < 136 bytes per triangle whatever the tree.
+        At most 64 (T - 1) + 100 T, i.e. < 164 bytes per triangle whatever the tree.
         """
-        return sum(a.nbytes for a in (self.bmin, self.bmax, self.child, self.count, self.axis,
-                                      self.prims, self.v0, self.e1, self.e2))
+        return sum(a.nbytes for a in (self.nodes, self.prims, self.tris, self.v0, self.e1, self.e2))
+
+
+def _aligned_copy(a, align=64):
+    """A numpy-allocated copy of ``a`` whose data start on an ``align``-byte boundary."""
+    buf = np.empty(a.nbytes + align, np.uint8)
+    off = (-buf.ctypes.data) % align
+    out = buf[off:off + a.nbytes].view(a.dtype).reshape(a.shape)
+    out[...] = a
+    return out
 
 
 def _corners(v, name):
@@ -52,11 +80,18 @@ def build(v0, v1, v2):
         raise ValueError(f"accel.build: corner arrays differ in shape: {a.shape}, {b.shape}, {c.shape}")
     if a.shape[0] >= 2 ** 31 - 1:
         raise ValueError(f"accel.build: {a.shape[0]} triangles exceed the int32 indices")
-    bmin, bmax, child, count, axis, prims, tv0, te1, te2, bad = K.build_bvh(a, b, c)
+    n = a.shape[0]
+    # numpy-allocated outputs: numpy asks the kernel for transparent huge pages on large
+    # arrays, which spares traversal a TLB miss per node on big scenes
+    tris = np.empty((n, 9), np.float32)
+    tv0 = np.empty((n, 3), np.float32)
+    te1 = np.empty((n, 3), K.EDGE_DTYPE)
+    te2 = np.empty((n, 3), K.EDGE_DTYPE)
+    nodes, prims, bad = K.build_bvh(a, b, c, tris, tv0, te1, te2)
     if bad >= 0:
         raise ValueError(f"accel.build: triangle {bad} has a non-finite corner coordinate "
                          f"({a[bad].tolist()}, {b[bad].tolist()}, {c[bad].tolist()})")
-    return BVH(bmin, bmax, child, count, axis, prims, tv0, te1, te2)
+    return BVH(_aligned_copy(nodes), prims, tris, tv0, te1, te2)
 
 
 def _rays(origins, directions, tmax):
@@ -72,8 +107,7 @@ def closest(bvh, origins, directions, tmax=None):
     o, d, tm = _rays(origins, directions, tmax)
     from .renderer import KERNEL_LOCK
     with KERNEL_LOCK:
-        t, p = K.trace_closest_batch(o, d, tm, bvh.bmin, bvh.bmax, bvh.child, bvh.count, bvh.axis,
-                                     bvh.v0, bvh.e1, bvh.e2)
+        t, p = K.trace_closest_batch(o, d, tm, bvh.nodes, bvh.tris)
     if bvh.prims.size == 0:
         return t, np.full(p.shape, -1, np.int32)
     tri = np.where(p >= 0, bvh.prims[np.maximum(p, 0)], -1)
@@ -84,16 +118,15 @@ def occluded(bvh, origins, directions, tmax):
     o, d, tm = _rays(origins, directions, tmax)
     from .renderer import KERNEL_LOCK
     with KERNEL_LOCK:
-        return K.trace_occluded_batch(o, d, tm, bvh.bmin, bvh.bmax, bvh.child, bvh.count,
-                                      bvh.v0, bvh.e1, bvh.e2)
+        return K.trace_occluded_batch(o, d, tm, bvh.nodes, bvh.tris)
 
 
 def brute_force_closest(v0, v1, v2, origins, directions, chunk=256):
     """NumPy oracle: the watertight test (the kernel's arithmetic, step for step) against
     every triangle, float32 corners, float64 math. Returns (t, triangle index or -1)."""
     a = np.asarray(v0, np.float32).astype(np.float64)
-    e1 = np.asarray(v1, np.float32).astype(np.float64) - a
-    e2 = np.asarray(v2, np.float32).astype(np.float64) - a
+    b = np.asarray(v1, np.float32).astype(np.float64)
+    c = np.asarray(v2, np.float32).astype(np.float64)
     origins = np.asarray(origins, np.float64)
     directions = np.asarray(directions, np.float64)
     n = origins.shape[0]
@@ -119,12 +152,12 @@ def brute_force_closest(v0, v1, v2, origins, directions, chunk=256):
         az = paz - okz
         ax = (pax - okx) - sx * az
         ay = (pay - oky) - sy * az
-        bz = (paz + e1[:, kz].T) - okz
-        bx = ((pax + e1[:, kx].T) - okx) - sx * bz
-        by = ((pay + e1[:, ky].T) - oky) - sy * bz
-        cz = (paz + e2[:, kz].T) - okz
-        cx = ((pax + e2[:, kx].T) - okx) - sx * cz
-        cy = ((pay + e2[:, ky].T) - oky) - sy * cz
+        bz = b[:, kz].T - okz
+        bx = (b[:, kx].T - okx) - sx * bz
+        by = (b[:, ky].T - oky) - sy * bz
+        cz = c[:, kz].T - okz
+        cx = (c[:, kx].T - okx) - sx * cz
+        cy = (c[:, ky].T - oky) - sy * cz
         u = cx * by - cy * bx
         v = ax * cy - ay * cx
         w = bx * ay - by * ax
@@ -143,13 +176,16 @@ def brute_force_closest(v0, v1, v2, origins, directions, chunk=256):
 
 def tree_depth(bvh):
     """Number of nodes on the longest root-to-leaf path (1 for a single leaf)."""
-    level = np.zeros(1, np.int64)
-    depth = 0
+    lk = bvh.links
+    if bvh.tris.shape[0] == 0 or lk[0, K.R_REF] < 0:
+        return 1
+    level = np.zeros(1, np.int64)  # records; a record at level k holds nodes of depth k + 1
+    depth = 1
     while level.size:
         depth += 1
-        if bvh.v0.shape[0] == 0:
-            break
-        inner = level[bvh.count[level] == 0]
-        left = bvh.child[inner].astype(np.int64)
-        level = np.concatenate([left, left + 1])
+        nxt = []
+        for side in (0, 1):
+            cnt = lk[level, K.L_CNT + 2 * side]
+            nxt.append(lk[level, K.L_REF + 2 * side][cnt == 0].astype(np.int64))
+        level = np.concatenate(nxt)
     return depth

@@ -622,13 +622,13 @@ def prepare(scene: Scene, measure=False) -> Prepared:
 
 
 def _rows(prep, film, y0, y1, s0, s1):
-    from .kernels.path import render_rows
+    from .kernels.path import render_rows, scratch
 
     st = prep.scene.settings
     b = prep.bvh
     render_rows(film.sums, int(y0), int(y1), int(s0), int(s1), int(st.seed), int(st.max_depth), int(st.rr_depth),
                 float(prep.scene_scale), prep.cam, prep.filt,
-                b.bmin, b.bmax, b.child, b.count, b.axis, b.v0, b.e1, b.e2, prep.tri_mat, prep.tri_emitter,
+                b.nodes, b.tris, b.v0, b.e1, b.e2, prep.tri_mat, prep.tri_emitter,
                 prep.mat_model, prep.mat_p, prep.mat_ra, prep.mat_rb, prep.mat_eta, prep.mat_kappa, prep.mat_ior,
                 prep.ior_tab, prep.mat_emis, prep.mat_emis_scale, prep.mat_emis_two, prep.spec, prep.cmf,
                 prep.light_kind, prep.light_geo, prep.light_prof, prep.light_spec, prep.light_scale,
@@ -639,7 +639,7 @@ def _rows(prep, film, y0, y1, s0, s1):
                 int(st.spp), prep.mat_medium, prep.med_tab, prep.med_g, int(prep.cam_medium),
                 int(bool(st.next_event)), prep.tri_flag, int(prep.sensor_mat), int(prep.film_transparent),
                 prep.tri_tex, prep.tex_data, prep.tex_info, prep.mat_tex, prep.mat_nstr, int(prep.tex_row),
-                float(st.tri_solid_angle_min), float(st.tri_solid_angle_max))
+                float(st.tri_solid_angle_min), float(st.tri_solid_angle_max), *scratch(prep.mat_p.shape[1]))
 
 
 def thread_count(threads=None):

@@ -68,7 +68,7 @@ def test_identical_centroids_build_bounded_leaves():
     v1 = np.tile([1.0, 0, 0], (100, 1))
     v2 = np.tile([0, 1.0, 0], (100, 1))
     bvh = accel.build(v0, v1, v2)
-    assert bvh.count.max() <= 16
+    assert bvh.leaves()[1].max() <= 16
     t, tri = accel.closest(bvh, np.array([[0.2, 0.2, 1.0]]), np.array([[0, 0, -1.0]]))
     assert t[0] == pytest.approx(1.0) and 0 <= tri[0] < 100
 
@@ -102,11 +102,54 @@ def test_sah_tree_is_shallow_and_compact():
     v0, v1, v2 = _soup(rng, 20000, size=0.01)
     bvh = accel.build(v0, v1, v2)
     assert bvh.n_nodes < 2 * 20000
-    assert bvh.count.max() <= 16
+    first, count, _ = bvh.leaves()
+    assert count.max() <= 16
     # every primitive appears exactly once in the leaves
-    leaves = bvh.count > 0
-    assert bvh.count[leaves].sum() == 20000
+    assert count.sum() == 20000
     assert np.array_equal(np.sort(bvh.prims), np.arange(20000))
+
+
+@pytest.mark.parametrize("n_tri", [1, 5, 3000])
+def test_packed_records_are_consistent(n_tri):
+    """The packed layout: 64-byte aligned records; leaf ranges tile [0, T) exactly; every
+    leaf box holds its triangles' corners and every internal child's box holds both boxes
+    of its record; a single-leaf tree has an absent right child whose box no ray enters;
+    ``tris`` rows are the float32 corners of ``prims`` and the shading edges their exact
+    differences."""
+    rng = np.random.default_rng(12)
+    v0, v1, v2 = _soup(rng, n_tri, size=0.05)
+    bvh = accel.build(v0, v1, v2)
+    nodes, lk = bvh.nodes, bvh.links
+    assert nodes.dtype == np.float32 and nodes.shape[1] == 16 and nodes.ctypes.data % 64 == 0
+    assert bvh.tris.dtype == np.float32 and bvh.tris.shape == (n_tri, 9)
+    first, count, boxes = bvh.leaves()
+    order = np.argsort(first)
+    assert first[order][0] == 0 and np.array_equal(first[order][1:], (first + count)[order][:-1])
+    assert (first + count).max() == n_tri
+    corners = bvh.tris.reshape(-1, 3, 3)
+    for f, c, box in zip(first, count, boxes):
+        pts = corners[f:f + c].reshape(-1, 3)
+        assert np.all(box[:3] <= pts.min(0)) and np.all(pts.max(0) <= box[3:])
+    seen = np.zeros(bvh.n_records, int)
+    for side in (0, 1):
+        inner = np.nonzero((lk[:, 13 + 2 * side] == 0) & (lk[:, 12 + 2 * side] >= 0))[0]
+        kids = lk[inner, 12 + 2 * side]
+        seen[kids] += 1
+        box = nodes[inner, 6 * side:6 * side + 6]
+        for s2 in (0, 1):
+            sub = nodes[kids, 6 * s2:6 * s2 + 6]
+            live = lk[kids, 12 + 2 * s2] >= 0
+            assert np.all(box[live, :3] <= sub[live, :3]) and np.all(sub[live, 3:] <= box[live, 3:])
+    assert seen[0] == 0 and np.all(seen[1:] == 1)  # every record but the root's has one parent
+    if n_tri <= K.MAX_LEAF:
+        assert bvh.n_records == 1 and lk[0, 12] == 0 and lk[0, 13] == n_tri and lk[0, 14] == -1
+        assert np.all(nodes[0, 6:12] == np.inf) and accel.tree_depth(bvh) == 1
+    p = bvh.prims
+    for k, v in enumerate((v0, v1, v2)):
+        assert np.array_equal(bvh.tris[:, 3 * k:3 * k + 3], np.asarray(v, np.float32)[p])
+    assert np.array_equal(bvh.v0, bvh.tris[:, :3])
+    assert np.array_equal(bvh.e1, bvh.tris[:, 3:6].astype(np.float64) - bvh.tris[:, :3])
+    assert np.array_equal(bvh.e2, bvh.tris[:, 6:9].astype(np.float64) - bvh.tris[:, :3])
 
 
 def _icosphere(level):
@@ -178,7 +221,7 @@ def test_edges_are_exact_and_float32_input_builds_the_same_tree():
     v0, v1, v2 = _soup(rng, 3000)
     b64 = accel.build(v0, v1, v2)
     b32 = accel.build(*(np.asarray(v, np.float32) for v in (v0, v1, v2)))
-    for name in ("bmin", "bmax", "child", "count", "axis", "prims", "v0", "e1", "e2"):
+    for name in ("nodes", "prims", "tris", "v0", "e1", "e2"):
         assert np.array_equal(getattr(b64, name), getattr(b32, name)), name
     p = b64.prims
     for e, v in ((b64.e1, v1), (b64.e2, v2)):
@@ -189,7 +232,7 @@ def test_edges_are_exact_and_float32_input_builds_the_same_tree():
         b1 = accel.build(v0, v1, v2)
     finally:
         set_threads(None)
-    assert all(np.array_equal(getattr(b1, n), getattr(b64, n)) for n in ("bmin", "child", "count", "prims"))
+    assert all(np.array_equal(getattr(b1, n), getattr(b64, n)) for n in ("nodes", "prims", "tris"))
 
 
 def test_depth_is_bounded_for_pathological_input():
@@ -203,7 +246,7 @@ def test_depth_is_bounded_for_pathological_input():
     v2 = v0 + np.stack([0.5 * x, np.zeros(n), 0.3 * x], 1)
     bvh = accel.build(v0, v1, v2)
     depth = accel.tree_depth(bvh)
-    assert K.FALLBACK_DEPTH < depth <= K.MAX_DEPTH <= K.STACK_SIZE
+    assert K.FALLBACK_DEPTH < depth <= K.MAX_DEPTH and 3 * (K.MAX_DEPTH - 1) <= K.STACK_SIZE
     assert np.array_equal(np.sort(bvh.prims), np.arange(n))
     rng = np.random.default_rng(4)
     k = rng.integers(0, 400, 2000)

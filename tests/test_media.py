@@ -227,8 +227,8 @@ def _shadow(prep, o, w, dist, medium=-1):
     mw = np.zeros((M.MW_ROWS, NW))
     from spectral_gi.core.kernels.bvh import STACK_SIZE
     stack = np.empty(STACK_SIZE, np.int32)
-    ok = M.shadow(o[0], o[1], o[2], w[0], w[1], w[2], dist, medium, -1, lam, mw, b.bmin, b.bmax, b.child, b.count,
-                  b.axis, b.v0, b.e1, b.e2, prep.tri_mat, prep.mat_model, prep.mat_medium, prep.med_tab, 1e-6,
+    ok = M.shadow(o[0], o[1], o[2], w[0], w[1], w[2], dist, medium, -1, lam, mw, b.nodes, b.tris,
+                  b.v0, b.e1, b.e2, prep.tri_mat, prep.mat_model, prep.mat_medium, prep.med_tab, 1e-6,
                   stack)
     return ok, mw[M.MW_TR].copy()
 

@@ -1,23 +1,31 @@
-"""Bounding volume hierarchy over triangles: binned SAH build, flattened nodes, ordered stack traversal.
+"""Bounding volume hierarchy over triangles: binned SAH build, packed nodes, ordered stack traversal.
 
-Node layout (struct of arrays, index 0 is the root):
+Nodes are packed for traversal, one 64-byte record (one cache line) per internal node,
+holding both children's boxes and references: ``nodes`` float32 (R, 16), record 0 the
+root's; its last four slots are int32 bit patterns (read through ``nodes.view(np.int32)``)
 
-* ``bmin``, ``bmax``  float32 (N, 3) node bounds, rounded outwards
-* ``child``  int32: internal node → index of its left child (the right child is
-  ``child + 1``); leaf → index of its first triangle in leaf order
-* ``count``  int32: 0 for an internal node, the number of triangles for a leaf
-* ``axis``   int32: split axis of an internal node
+* ``[0:6]``  left child's box (min xyz, max xyz), float32 rounded outwards
+* ``[6:12]`` right child's box
+* ``[L_REF]``, ``[L_CNT]`` (12, 13) the left child: ``cnt == 0`` → ``ref`` is its record;
+  ``cnt > 0`` → a leaf of ``cnt`` triangles from ``ref`` in leaf order
+* ``[R_REF]``, ``[R_CNT]`` (14, 15) the right child, the same way
 
-Triangles are stored in leaf order as ``v0`` (float32 (T, 3), the first corner rounded
-to float32) and ``e1 = v1 - v0``, ``e2 = v2 - v0`` (float64 (T, 3)), the differences of
-the float32-rounded corners. Those differences are exact in float64 (unless a corner's
-coordinates differ by more than 2^29 in magnitude), so ``v0 + e1`` gives back the very
-corner every neighbouring triangle sees: the watertight triangle test relies on it.
+A tree that is a single leaf gets one record whose right child is absent (ref -1, count
+0, a box at +inf on every axis, which ``_slab`` never enters). ``accel.build`` gives the
+array 64-byte alignment so a record never straddles two cache lines.
+
+Triangles for traversal are ``tris`` float32 (T, 9), leaf order, one row per triangle:
+its float32-rounded corners v0, v1, v2 (36 bytes, so a leaf's triangles are one
+contiguous run). The watertight test reads the corners themselves, so neighbouring
+triangles see the very same corner. Shading keeps ``v0`` (float32 (T, 3)) and the exact
+edges ``e1 = v1 - v0``, ``e2 = v2 - v0`` (float64 (T, 3), differences of the float32
+corners, exact unless a corner's coordinates differ by more than 2^29 in magnitude),
+also in leaf order.
 
 The tree depth is at most ``MAX_DEPTH``: below ``FALLBACK_DEPTH`` the builder splits by
 SAH, deeper it halves the triangle range, which needs at most 31 more levels for fewer
-than 2^31 triangles. Traversal pushes at most one node per level, so ``STACK_SIZE``
-entries always suffice.
+than 2^31 triangles. Traversal pushes at most one child per record level (3 int32
+slots: reference, count, entry distance), so ``STACK_SIZE`` slots always suffice.
 """
 import numpy as np
 from numba import prange
@@ -29,9 +37,14 @@ MAX_LEAF = 8  # ranges this small always become leaves (fewer nodes, same ray sp
 MAX_LEAF_SAH = 16  # SAH may keep ranges up to this size as leaves
 FALLBACK_DEPTH = 32
 MAX_DEPTH = FALLBACK_DEPTH + 32
-STACK_SIZE = 128
+STACK_SIZE = 3 * MAX_DEPTH  # int32 slots: up to 3 per pushed child, at most one per record level
 TRAVERSAL_COST = 1.0  # relative to one triangle test
 EDGE_DTYPE = np.float64
+NODE_WIDTH = 16  # float32 slots per record: 64 bytes
+L_REF = 12
+L_CNT = 13
+R_REF = 14
+R_CNT = 15
 
 
 @inline
@@ -88,32 +101,36 @@ def _swap(lo, hi, prims, i, j):
 
 
 @inline
-def _set_box(bmin, bmax, node, l0, l1, l2, h0, h1, h2):
-    bmin[node, 0] = _down(l0); bmin[node, 1] = _down(l1); bmin[node, 2] = _down(l2)
-    bmax[node, 0] = _up(h0); bmax[node, 1] = _up(h1); bmax[node, 2] = _up(h2)
+def _set_child_box(nodes, rec, side, l0, l1, l2, h0, h1, h2):
+    o = 6 * side
+    nodes[rec, o] = _down(l0); nodes[rec, o + 1] = _down(l1); nodes[rec, o + 2] = _down(l2)
+    nodes[rec, o + 3] = _up(h0); nodes[rec, o + 4] = _up(h1); nodes[rec, o + 5] = _up(h2)
 
 
 @kernel
-def build_bvh(v0, v1, v2):
+def build_bvh(v0, v1, v2, tris, tv0, te1, te2):
     """Binned-SAH build over corners (T, 3) (float32 or float64; rounded to float32).
 
-    Returns (bmin, bmax, child, count, axis, prims, tri_v0, tri_e1, tri_e2, bad): ``prims``
-    maps leaf order to input order; ``bad`` is the index of the first triangle with a
-    non-finite coordinate, or -1 (the tree is then not valid).
+    Fills the caller's leaf-order triangle arrays: ``tris`` float32 (T, 9) the corners for
+    traversal, ``tv0`` float32 (T, 3), ``te1``, ``te2`` float64 (T, 3) the shading arrays
+    (so the caller chooses their memory, e.g. huge pages). Returns (nodes, prims, bad):
+    ``nodes`` the packed records (module docstring; a view of a larger, mostly untouched
+    buffer: copy it), ``prims`` maps leaf order to input order, ``bad`` the index of the
+    first triangle with a non-finite coordinate, or -1 (the tree is then not valid).
     """
     n_tri = v0.shape[0]
-    max_nodes = max(1, 2 * n_tri - 1)
-    bmin = np.empty((max_nodes, 3), np.float32)
-    bmax = np.empty((max_nodes, 3), np.float32)
-    child = np.zeros(max_nodes, np.int32)
-    count = np.zeros(max_nodes, np.int32)
-    axis = np.zeros(max_nodes, np.int32)
+    max_rec = max(1, n_tri - 1)  # inner nodes of a tree whose leaves are never empty
+    # np.empty: the pages of records never written are never touched, so never resident
+    nodes = np.empty((max_rec, NODE_WIDTH), np.float32)
+    links = nodes.view(np.int32)
     prims = np.empty(n_tri, np.int32)
     bad = -1
-    n_nodes = 1
+    n_rec = 0
     if n_tri == 0:
-        bmin[0, :] = 0.0
-        bmax[0, :] = -1.0
+        for q in range(12):
+            nodes[0, q] = np.inf
+        links[0, L_REF] = -1; links[0, L_CNT] = 0; links[0, R_REF] = -1; links[0, R_CNT] = 0
+        n_rec = 1
     else:
         # per-triangle bounds of the float32 corners; partitioned in place with prims
         lo = np.empty((n_tri, 3), np.float32)
@@ -127,9 +144,7 @@ def build_bvh(v0, v1, v2):
                     bad = i
             prims[i] = i
         if bad >= 0:
-            return bmin[:1].copy(), bmax[:1].copy(), child[:1].copy(), count[:1].copy(), axis[:1].copy(), \
-                prims, np.empty((0, 3), np.float32), np.empty((0, 3), EDGE_DTYPE), \
-                np.empty((0, 3), EDGE_DTYPE), bad
+            return nodes[:1], prims, bad
 
         b_cnt = np.zeros((3, N_BINS), np.int64)
         b_lo = np.empty((3, N_BINS, 3), np.float32)
@@ -139,31 +154,30 @@ def build_bvh(v0, v1, v2):
         c_min = np.empty(3)
         c_scale = np.empty(3)
         cb = np.empty(6)  # centroid bounds of the node being processed
-        # stack of pending ranges: node, start, end, depth; their doubled-centroid bounds
+        # stack of pending ranges: slot (2 * parent record + side, -1 for the root), start,
+        # end, depth; their doubled-centroid bounds and their (rounded) boxes
         st_i = np.empty((2 * MAX_DEPTH + 4, 4), np.int64)
-        st_c = np.empty((2 * MAX_DEPTH + 4, 6))
+        st_c = np.empty((2 * MAX_DEPTH + 4, 12))
 
         l0, l1, l2, h0, h1, h2, cl0, cl1, cl2, ch0, ch1, ch2 = _range_bounds(lo, hi, 0, n_tri)
-        _set_box(bmin, bmax, 0, l0, l1, l2, h0, h1, h2)
-        st_i[0, 0] = 0; st_i[0, 1] = 0; st_i[0, 2] = n_tri; st_i[0, 3] = 1
+        st_i[0, 0] = -1; st_i[0, 1] = 0; st_i[0, 2] = n_tri; st_i[0, 3] = 1
         st_c[0, 0] = cl0; st_c[0, 1] = cl1; st_c[0, 2] = cl2
         st_c[0, 3] = ch0; st_c[0, 4] = ch1; st_c[0, 5] = ch2
+        st_c[0, 6] = _down(l0); st_c[0, 7] = _down(l1); st_c[0, 8] = _down(l2)
+        st_c[0, 9] = _up(h0); st_c[0, 10] = _up(h1); st_c[0, 11] = _up(h2)
         sp = 1
         while sp > 0:
             sp -= 1
-            node = st_i[sp, 0]; s = st_i[sp, 1]; e = st_i[sp, 2]; depth = st_i[sp, 3]
+            slot = st_i[sp, 0]; s = st_i[sp, 1]; e = st_i[sp, 2]; depth = st_i[sp, 3]
             for q in range(6):
                 cb[q] = st_c[sp, q]
             n = e - s
-            if n <= MAX_LEAF:
-                child[node] = s
-                count[node] = n
-                continue
+            is_leaf = n <= MAX_LEAF
 
             best_axis = -1
             best_split = 0
             best_cost = np.inf
-            if depth < FALLBACK_DEPTH:
+            if not is_leaf and depth < FALLBACK_DEPTH:
                 # one binning pass for the three axes
                 any_axis = False
                 for a in range(3):
@@ -194,9 +208,9 @@ def build_bvh(v0, v1, v2):
                             b_hi[a, b, 0] = max(b_hi[a, b, 0], y0)
                             b_hi[a, b, 1] = max(b_hi[a, b, 1], y1)
                             b_hi[a, b, 2] = max(b_hi[a, b, 2], y2)
-                    node_area = max(_area(np.float64(bmax[node, 0]) - bmin[node, 0],
-                                          np.float64(bmax[node, 1]) - bmin[node, 1],
-                                          np.float64(bmax[node, 2]) - bmin[node, 2]), 1e-300)
+                    node_area = max(_area(np.float64(np.float32(st_c[sp, 9])) - np.float32(st_c[sp, 6]),
+                                          np.float64(np.float32(st_c[sp, 10])) - np.float32(st_c[sp, 7]),
+                                          np.float64(np.float32(st_c[sp, 11])) - np.float32(st_c[sp, 8])), 1e-300)
                     for a in range(3):
                         if c_scale[a] == 0.0:
                             continue
@@ -230,19 +244,29 @@ def build_bvh(v0, v1, v2):
                                 best_axis = a
                                 best_split = b + 1
                 if best_axis >= 0 and best_cost >= n and n <= MAX_LEAF_SAH:
-                    child[node] = s
-                    count[node] = n
-                    continue
+                    is_leaf = True
                 if best_axis < 0 and n <= MAX_LEAF_SAH:
-                    child[node] = s
-                    count[node] = n
-                    continue
+                    is_leaf = True
 
-            left = n_nodes
-            right = left + 1
-            n_nodes += 2
-            child[node] = left
-            count[node] = 0
+            if is_leaf:
+                if slot < 0:
+                    # the whole tree is one leaf: record 0 holds it and a box no ray meets
+                    for q in range(6):
+                        nodes[0, q] = st_c[sp, 6 + q]
+                    for q in range(6, 12):
+                        nodes[0, q] = np.inf  # not rounded: nextafter(inf, -inf) is finite
+                    links[0, L_REF] = s; links[0, L_CNT] = n; links[0, R_REF] = -1; links[0, R_CNT] = 0
+                    n_rec = 1
+                else:
+                    links[slot >> 1, L_REF + 2 * (slot & 1)] = s
+                    links[slot >> 1, L_CNT + 2 * (slot & 1)] = n
+                continue
+
+            rec = n_rec
+            n_rec += 1
+            if slot >= 0:
+                links[slot >> 1, L_REF + 2 * (slot & 1)] = rec
+                links[slot >> 1, L_CNT + 2 * (slot & 1)] = 0
             if best_axis >= 0:
                 # partition by bin; the children's boxes are the unions of their bins
                 a = best_axis
@@ -282,64 +306,60 @@ def build_bvh(v0, v1, v2):
                 for b in range(best_split):
                     l0 = min(l0, b_lo[a, b, 0]); l1 = min(l1, b_lo[a, b, 1]); l2 = min(l2, b_lo[a, b, 2])
                     h0 = max(h0, b_hi[a, b, 0]); h1 = max(h1, b_hi[a, b, 1]); h2 = max(h2, b_hi[a, b, 2])
-                _set_box(bmin, bmax, left, l0, l1, l2, h0, h1, h2)
+                _set_child_box(nodes, rec, 0, l0, l1, l2, h0, h1, h2)
                 l0 = np.inf; l1 = np.inf; l2 = np.inf; h0 = -np.inf; h1 = -np.inf; h2 = -np.inf
                 for b in range(best_split, N_BINS):
                     l0 = min(l0, b_lo[a, b, 0]); l1 = min(l1, b_lo[a, b, 1]); l2 = min(l2, b_lo[a, b, 2])
                     h0 = max(h0, b_hi[a, b, 0]); h1 = max(h1, b_hi[a, b, 1]); h2 = max(h2, b_hi[a, b, 2])
-                _set_box(bmin, bmax, right, l0, l1, l2, h0, h1, h2)
-                axis[node] = a
+                _set_child_box(nodes, rec, 1, l0, l1, l2, h0, h1, h2)
             else:
                 # deep (or all centroids equal): halve the range, which bounds the depth
                 mid = s + n // 2
-                a = 0
-                if cb[4] - cb[1] > cb[3 + a] - cb[a]:
-                    a = 1
-                if cb[5] - cb[2] > cb[3 + a] - cb[a]:
-                    a = 2
-                axis[node] = a
                 l0, l1, l2, h0, h1, h2, pl0, pl1, pl2, ph0, ph1, ph2 = _range_bounds(lo, hi, s, mid)
-                _set_box(bmin, bmax, left, l0, l1, l2, h0, h1, h2)
+                _set_child_box(nodes, rec, 0, l0, l1, l2, h0, h1, h2)
                 l0, l1, l2, h0, h1, h2, ql0, ql1, ql2, qh0, qh1, qh2 = _range_bounds(lo, hi, mid, e)
-                _set_box(bmin, bmax, right, l0, l1, l2, h0, h1, h2)
+                _set_child_box(nodes, rec, 1, l0, l1, l2, h0, h1, h2)
             # push right, then left (processed next)
-            st_i[sp, 0] = right; st_i[sp, 1] = mid; st_i[sp, 2] = e; st_i[sp, 3] = depth + 1
+            st_i[sp, 0] = 2 * rec + 1; st_i[sp, 1] = mid; st_i[sp, 2] = e; st_i[sp, 3] = depth + 1
             st_c[sp, 0] = ql0; st_c[sp, 1] = ql1; st_c[sp, 2] = ql2
             st_c[sp, 3] = qh0; st_c[sp, 4] = qh1; st_c[sp, 5] = qh2
+            for q in range(6):
+                st_c[sp, 6 + q] = nodes[rec, 6 + q]
             sp += 1
-            st_i[sp, 0] = left; st_i[sp, 1] = s; st_i[sp, 2] = mid; st_i[sp, 3] = depth + 1
+            st_i[sp, 0] = 2 * rec; st_i[sp, 1] = s; st_i[sp, 2] = mid; st_i[sp, 3] = depth + 1
             st_c[sp, 0] = pl0; st_c[sp, 1] = pl1; st_c[sp, 2] = pl2
             st_c[sp, 3] = ph0; st_c[sp, 4] = ph1; st_c[sp, 5] = ph2
+            for q in range(6):
+                st_c[sp, 6 + q] = nodes[rec, q]
             sp += 1
 
-    # triangles in leaf order (lo and hi are no longer needed)
-    tv0 = np.empty((n_tri, 3), np.float32)
-    te1 = np.empty((n_tri, 3), EDGE_DTYPE)
-    te2 = np.empty((n_tri, 3), EDGE_DTYPE)
+    # triangles in leaf order (lo and hi are no longer needed): the corners for traversal,
+    # the first corner and the exact edges for shading
     for k in range(n_tri):
         p = prims[k]
         for q in range(3):
-            a32 = np.float32(v0[p, q])
+            a32 = np.float32(v0[p, q]); b32 = np.float32(v1[p, q]); c32 = np.float32(v2[p, q])
+            tris[k, q] = a32; tris[k, 3 + q] = b32; tris[k, 6 + q] = c32
             tv0[k, q] = a32
-            te1[k, q] = np.float64(np.float32(v1[p, q])) - np.float64(a32)
-            te2[k, q] = np.float64(np.float32(v2[p, q])) - np.float64(a32)
-    return bmin[:n_nodes].copy(), bmax[:n_nodes].copy(), child[:n_nodes].copy(), \
-        count[:n_nodes].copy(), axis[:n_nodes].copy(), prims, tv0, te1, te2, bad
+            te1[k, q] = np.float64(b32) - np.float64(a32)
+            te2[k, q] = np.float64(c32) - np.float64(a32)
+    return nodes[:n_rec], prims, bad
 
 
 @inline
-def _slab(ox, oy, oz, ix, iy, iz, bmin, bmax, node, tmax):
-    """Entry distance of the ray into the node's box within [0, tmax], inf if it misses."""
-    t0 = (bmin[node, 0] - ox) * ix
-    t1 = (bmax[node, 0] - ox) * ix
+def _slab(ox, oy, oz, ix, iy, iz, nodes, rec, o, tmax):
+    """Entry distance of the ray into the box at ``nodes[rec, o:o + 6]`` within [0, tmax],
+    inf if it misses."""
+    t0 = (nodes[rec, o] - ox) * ix
+    t1 = (nodes[rec, o + 3] - ox) * ix
     tn = min(t0, t1)
     tf = max(t0, t1)
-    t0 = (bmin[node, 1] - oy) * iy
-    t1 = (bmax[node, 1] - oy) * iy
+    t0 = (nodes[rec, o + 1] - oy) * iy
+    t1 = (nodes[rec, o + 4] - oy) * iy
     tn = max(tn, min(t0, t1))
     tf = min(tf, max(t0, t1))
-    t0 = (bmin[node, 2] - oz) * iz
-    t1 = (bmax[node, 2] - oz) * iz
+    t0 = (nodes[rec, o + 2] - oz) * iz
+    t1 = (nodes[rec, o + 5] - oz) * iz
     tn = max(tn, min(t0, t1))
     tf = min(tf, max(t0, t1))
     tn = max(tn, 0.0)
@@ -381,26 +401,28 @@ def ray_setup(dx, dy, dz):
 
 
 @inline
-def intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, v0, e1, e2, p, tmin, tmax):
+def intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, tris, p, tmin, tmax):
     """Watertight ray/triangle test (Woop, Benthin, Wald, JCGT 2(1), 2013) in float64.
 
-    ``okx, oky, okz`` are the ray origin's coordinates on the axes of ``ray_setup``.
-    Corners are rebuilt as v0, v0 + e1, v0 + e2 (exact), moved to the ray origin and
-    sheared so the ray runs along +z; the signs of the three edge functions decide the
-    hit, and a shared edge gets the same edge function (negated) in both its triangles,
-    so no ray slips between them. Returns (t, u, v) with u, v the weights of v1, v2; t =
-    inf on a miss.
+    ``okx, oky, okz`` are the ray origin's coordinates on the axes of ``ray_setup``;
+    ``tris[p]`` holds the float32 corners v0, v1, v2 (9 values). The corners, exact in
+    float64, are moved to the ray origin and sheared so the ray runs along +z; the signs
+    of the three edge functions decide the hit, and a shared edge gets the same edge
+    function (negated) in both its triangles, so no ray slips between them. Returns
+    (t, u, v) with u, v the weights of v1, v2; t = inf on a miss.
     """
-    pax = np.float64(v0[p, kx]); pay = np.float64(v0[p, ky]); paz = np.float64(v0[p, kz])
+    paz = np.float64(tris[p, kz])
+    pbz = np.float64(tris[p, 3 + kz])
+    pcz = np.float64(tris[p, 6 + kz])
     az = paz - okz
-    ax = (pax - okx) - sx * az
-    ay = (pay - oky) - sy * az
-    bz = (paz + e1[p, kz]) - okz
-    bx = ((pax + e1[p, kx]) - okx) - sx * bz
-    by = ((pay + e1[p, ky]) - oky) - sy * bz
-    cz = (paz + e2[p, kz]) - okz
-    cx = ((pax + e2[p, kx]) - okx) - sx * cz
-    cy = ((pay + e2[p, ky]) - oky) - sy * cz
+    ax = (np.float64(tris[p, kx]) - okx) - sx * az
+    ay = (np.float64(tris[p, ky]) - oky) - sy * az
+    bz = pbz - okz
+    bx = (np.float64(tris[p, 3 + kx]) - okx) - sx * bz
+    by = (np.float64(tris[p, 3 + ky]) - oky) - sy * bz
+    cz = pcz - okz
+    cx = (np.float64(tris[p, 6 + kx]) - okx) - sx * cz
+    cy = (np.float64(tris[p, 6 + ky]) - oky) - sy * cz
     u = cx * by - cy * bx
     v = ax * cy - ay * cx
     w = bx * ay - by * ax
@@ -415,7 +437,6 @@ def intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, v0, e1, e2, p, tmi
     return t, v / det, w / det
 
 
-
 @inline
 def _inv(d):
     if d == 0.0:
@@ -424,12 +445,26 @@ def _inv(d):
 
 
 @inline
-def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, bmin, bmax, child, count, axis, v0, e1, e2, stack):
+def _below(t):
+    """The largest float32 not above t (t >= 0)."""
+    f = np.float32(t)
+    if np.float64(f) > t:
+        f = np.nextafter(f, np.float32(-np.inf))
+    return f
+
+
+@inline
+def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     """Closest triangle hit in (tmin, tmax). Returns (t, prim, u, v); prim = -1 on a miss.
 
-    Front-to-back: of two children hit, the nearer is visited first and the other pushed;
-    a popped node is skipped when its box now starts beyond the best hit.
+    Front-to-back: of two children hit, the nearer is visited first and the other pushed
+    with its reference, count and entry distance (rounded down to float32), so a pop reads
+    no node; a popped child is skipped when its box starts beyond the best hit by then.
     """
+    if tris.shape[0] == 0:
+        return np.inf, -1, 0.0, 0.0
+    links = nodes.view(np.int32)
+    fstack = stack.view(np.float32)
     ix = _inv(dx); iy = _inv(dy); iz = _inv(dz)
     kx, ky, kz, sx, sy, sz = ray_setup(dx, dy, dz)
     okx = _pick(ox, oy, oz, kx); oky = _pick(ox, oy, oz, ky); okz = _pick(ox, oy, oz, kz)
@@ -437,47 +472,48 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, bmin, bmax, child, count, ax
     best_p = -1
     best_u = 0.0
     best_v = 0.0
-    if v0.shape[0] == 0 or _slab(ox, oy, oz, ix, iy, iz, bmin, bmax, 0, best_t) == np.inf:
-        return np.inf, -1, 0.0, 0.0
     sp = 0
-    node = 0
+    ref = 0  # the child being entered: a record (cnt == 0) or a leaf's triangle range
+    cnt = 0
     while True:
-        c = count[node]
-        if c > 0:
-            first = child[node]
-            for k in range(first, first + c):
-                t, u, v = intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, v0, e1, e2, k, tmin, best_t)
+        if cnt == 0:
+            tl = _slab(ox, oy, oz, ix, iy, iz, nodes, ref, 0, best_t)
+            tr = _slab(ox, oy, oz, ix, iy, iz, nodes, ref, 6, best_t)
+            if tl < np.inf:
+                if tr < tl:
+                    stack[sp] = links[ref, L_REF]
+                    stack[sp + 1] = links[ref, L_CNT]
+                    fstack[sp + 2] = _below(tl)
+                    sp += 3
+                    cnt = links[ref, R_CNT]
+                    ref = links[ref, R_REF]
+                else:
+                    if tr < np.inf:
+                        stack[sp] = links[ref, R_REF]
+                        stack[sp + 1] = links[ref, R_CNT]
+                        fstack[sp + 2] = _below(tr)
+                        sp += 3
+                    cnt = links[ref, L_CNT]
+                    ref = links[ref, L_REF]
+                continue
+            elif tr < np.inf:
+                cnt = links[ref, R_CNT]
+                ref = links[ref, R_REF]
+                continue
+        else:
+            for k in range(ref, ref + cnt):
+                t, u, v = intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, tris, k, tmin, best_t)
                 if t < best_t:
                     best_t = t
                     best_p = k
                     best_u = u
                     best_v = v
-        else:
-            left = child[node]
-            right = left + 1
-            tl = _slab(ox, oy, oz, ix, iy, iz, bmin, bmax, left, best_t)
-            tr = _slab(ox, oy, oz, ix, iy, iz, bmin, bmax, right, best_t)
-            if tl < np.inf and tr < np.inf:
-                if tr < tl:
-                    stack[sp] = left
-                    node = right
-                else:
-                    stack[sp] = right
-                    node = left
-                sp += 1
-                continue
-            elif tl < np.inf:
-                node = left
-                continue
-            elif tr < np.inf:
-                node = right
-                continue
         found = False
         while sp > 0:
-            sp -= 1
-            nd = stack[sp]
-            if _slab(ox, oy, oz, ix, iy, iz, bmin, bmax, nd, best_t) < np.inf:
-                node = nd
+            sp -= 3
+            if fstack[sp + 2] <= best_t:
+                ref = stack[sp]
+                cnt = stack[sp + 1]
                 found = True
                 break
         if not found:
@@ -488,53 +524,55 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, bmin, bmax, child, count, ax
 
 
 @inline
-def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, bmin, bmax, child, count, v0, e1, e2, stack):
-    """True if any triangle is hit in (tmin, tmax). Nearer child first, any hit ends it."""
-    if v0.shape[0] == 0:
+def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
+    """True if any triangle is hit in (tmin, tmax). Nearer child first (the other pushed
+    as reference and count), any hit ends it."""
+    if tris.shape[0] == 0:
         return False
+    links = nodes.view(np.int32)
     ix = _inv(dx); iy = _inv(dy); iz = _inv(dz)
-    if _slab(ox, oy, oz, ix, iy, iz, bmin, bmax, 0, tmax) == np.inf:
-        return False
     kx, ky, kz, sx, sy, sz = ray_setup(dx, dy, dz)
     okx = _pick(ox, oy, oz, kx); oky = _pick(ox, oy, oz, ky); okz = _pick(ox, oy, oz, kz)
     sp = 0
-    node = 0
+    ref = 0
+    cnt = 0
     while True:
-        c = count[node]
-        if c > 0:
-            first = child[node]
-            for k in range(first, first + c):
-                t, u, v = intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, v0, e1, e2, k, tmin, tmax)
-                if t < np.inf:
-                    return True
-        else:
-            left = child[node]
-            right = left + 1
-            tl = _slab(ox, oy, oz, ix, iy, iz, bmin, bmax, left, tmax)
-            tr = _slab(ox, oy, oz, ix, iy, iz, bmin, bmax, right, tmax)
-            if tl < np.inf and tr < np.inf:
+        if cnt == 0:
+            tl = _slab(ox, oy, oz, ix, iy, iz, nodes, ref, 0, tmax)
+            tr = _slab(ox, oy, oz, ix, iy, iz, nodes, ref, 6, tmax)
+            if tl < np.inf:
                 if tr < tl:
-                    stack[sp] = left
-                    node = right
+                    stack[sp] = links[ref, L_REF]
+                    stack[sp + 1] = links[ref, L_CNT]
+                    sp += 2
+                    cnt = links[ref, R_CNT]
+                    ref = links[ref, R_REF]
                 else:
-                    stack[sp] = right
-                    node = left
-                sp += 1
-                continue
-            elif tl < np.inf:
-                node = left
+                    if tr < np.inf:
+                        stack[sp] = links[ref, R_REF]
+                        stack[sp + 1] = links[ref, R_CNT]
+                        sp += 2
+                    cnt = links[ref, L_CNT]
+                    ref = links[ref, L_REF]
                 continue
             elif tr < np.inf:
-                node = right
+                cnt = links[ref, R_CNT]
+                ref = links[ref, R_REF]
                 continue
+        else:
+            for k in range(ref, ref + cnt):
+                t, u, v = intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, tris, k, tmin, tmax)
+                if t < np.inf:
+                    return True
         if sp == 0:
             return False
-        sp -= 1
-        node = stack[sp]
+        sp -= 2
+        ref = stack[sp]
+        cnt = stack[sp + 1]
 
 
 @kernel(parallel=True)
-def trace_closest_batch(orig, dirs, tmax, bmin, bmax, child, count, axis, v0, e1, e2):
+def trace_closest_batch(orig, dirs, tmax, nodes, tris):
     """Closest hits of a batch of rays. Returns t (inf on a miss) and prim (leaf order, -1)."""
     n = orig.shape[0]
     t_out = np.empty(n)
@@ -542,19 +580,19 @@ def trace_closest_batch(orig, dirs, tmax, bmin, bmax, child, count, axis, v0, e1
     for i in prange(n):
         stack = np.empty(STACK_SIZE, np.int32)
         t, p, u, v = closest_hit(orig[i, 0], orig[i, 1], orig[i, 2], dirs[i, 0], dirs[i, 1], dirs[i, 2],
-                                 0.0, tmax[i], bmin, bmax, child, count, axis, v0, e1, e2, stack)
+                                 0.0, tmax[i], nodes, tris, stack)
         t_out[i] = t
         p_out[i] = p
     return t_out, p_out
 
 
 @kernel(parallel=True)
-def trace_occluded_batch(orig, dirs, tmax, bmin, bmax, child, count, v0, e1, e2):
+def trace_occluded_batch(orig, dirs, tmax, nodes, tris):
     """Any-hit queries of a batch of segments (origin, unit direction, length)."""
     n = orig.shape[0]
     out = np.empty(n, np.bool_)
     for i in prange(n):
         stack = np.empty(STACK_SIZE, np.int32)
         out[i] = occluded(orig[i, 0], orig[i, 1], orig[i, 2], dirs[i, 0], dirs[i, 1], dirs[i, 2],
-                          0.0, tmax[i], bmin, bmax, child, count, v0, e1, e2, stack)
+                          0.0, tmax[i], nodes, tris, stack)
     return out

@@ -248,7 +248,7 @@ def drop_companions(beta, mw):
 # ------------------------------------------------------------------ shadow rays
 
 @function
-def shadow(ox, oy, oz, wx, wy, wz, dist, medium, outer, lam, mw, bmin, bmax, child, count, axis,
+def shadow(ox, oy, oz, wx, wy, wz, dist, medium, outer, lam, mw, nodes, tris,
            v0, e1, e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack):
     """Transmittance from (o) over ``dist`` along unit w into mw[MW_TR], passing null
     surfaces and switching media at them; False (and 0) if any other surface blocks it."""
@@ -256,8 +256,7 @@ def shadow(ox, oy, oz, wx, wy, wz, dist, medium, outer, lam, mw, bmin, bmax, chi
         mw[MW_TR, i] = 1.0
     t0 = 0.0
     for _ in range(MAX_CROSSINGS):
-        t, prim, bu, bv = closest_hit(ox, oy, oz, wx, wy, wz, t0, dist, bmin, bmax, child, count, axis,
-                                      v0, e1, e2, stack)
+        t, prim, bu, bv = closest_hit(ox, oy, oz, wx, wy, wz, t0, dist, nodes, tris, stack)
         end = dist if prim < 0 else t
         if medium >= 0 and end > t0:
             for i in range(NW):
@@ -282,15 +281,15 @@ def shadow(ox, oy, oz, wx, wy, wz, dist, medium, outer, lam, mw, bmin, bmax, chi
 
 @inline
 def unoccluded(has_media, ox, oy, oz, wx, wy, wz, tmax, medium, outer, interior, cos_i, cos_n, lam, mw, fv,
-               bmin, bmax, child, count, axis, v0, e1, e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack):
+               nodes, tris, v0, e1, e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack):
     """Surface NEE visibility. Without media the plain any-hit query; with media the
     shadow ray starts in the medium on its side of the surface, passes null surfaces
     and scales fv by the transmittance."""
     if not has_media:
-        return not occluded(ox, oy, oz, wx, wy, wz, 0.0, tmax, bmin, bmax, child, count, v0, e1, e2, stack)
+        return not occluded(ox, oy, oz, wx, wy, wz, 0.0, tmax, nodes, tris, stack)
     if (cos_n > 0.0) != (cos_i > 0.0):
         medium, outer = crossed(medium, outer, interior, cos_n < 0.0)
-    if not shadow(ox, oy, oz, wx, wy, wz, tmax, medium, outer, lam, mw, bmin, bmax, child, count, axis,
+    if not shadow(ox, oy, oz, wx, wy, wz, tmax, medium, outer, lam, mw, nodes, tris,
                   v0, e1, e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack):
         return False
     for i in range(NW):
@@ -316,7 +315,7 @@ def pick(cdf, n, u):
 
 @function
 def nee(px, py, pz, dx, dy, dz, g, wx, wy, wz, dist, lpdf, fac, le, pe, medium, outer, lam, beta, rad, mw,
-        bmin, bmax, child, count, axis, v0, e1, e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack):
+        nodes, tris, v0, e1, e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack):
     """Light sampling at a scattering point: an emitter sample (unit direction w, distance,
     solid-angle pdf — inf for a delta light —, factor, emitted radiance le per wavelength,
     selection probability pe), HG phase, analytic transmittance through media and null
@@ -327,7 +326,7 @@ def nee(px, py, pz, dx, dy, dz, g, wx, wy, wz, dist, lpdf, fac, le, pe, medium, 
     if ph <= 0.0:
         return
     tmax = dist * (1.0 - 1e-4) - eps if dist < np.inf else np.inf
-    if not shadow(px, py, pz, wx, wy, wz, tmax, medium, outer, lam, mw, bmin, bmax, child, count, axis,
+    if not shadow(px, py, pz, wx, wy, wz, tmax, medium, outer, lam, mw, nodes, tris,
                   v0, e1, e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack):
         return
     if lpdf == np.inf:  # delta light: NEE only

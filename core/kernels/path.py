@@ -57,6 +57,7 @@ STRATIFIED_DIMS = 17
 
 # Ray offset against self-intersection: relative to the scene's coordinate magnitude.
 EPS_REL = 1e-5
+WORK_ROWS = 11  # rows of render_rows' scratch ``work``: λ, pdf(λ), β, L, ρa, ρb, η, κ, f, Le, λ cell fraction
 
 
 
@@ -470,9 +471,17 @@ def _splat(film, spectral, y, x, rad, pdf_lam, lam, cmf, photometric):
         film[y, x, 4] += Y * Y
 
 
-@kernel
+def scratch(n_params):
+    """The scratch arrays render_rows works in (it allocates nothing: see ``kernel``):
+    (work, mw, pm_tex, lc, stack) for material parameter rows of ``n_params`` entries.
+    One set per concurrent call."""
+    return (np.empty((WORK_ROWS, NW)), np.empty((media.MW_ROWS, NW)), np.empty(max(int(n_params), 1)),
+            np.empty(NW, np.int64), np.empty(STACK_SIZE, np.int32))
+
+
+@kernel(refcount=False)
 def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, cam, filt,
-                bmin, bmax, child, count, axis, v0, e1, e2, tri_mat, tri_emitter,
+                nodes, tris, v0, e1, e2, tri_mat, tri_emitter,
                 mat_model, mat_p, mat_ra, mat_rb, mat_eta, mat_kappa, mat_ior, ior_tab,
                 mat_emis, mat_emis_scale, mat_emis_two,
                 spec, cmf,
@@ -481,7 +490,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 world_spec, world_scale, world_img, world_dist, world_par, world_row, world_emit,
                 spectral, aov, tri_nrm, spec_alb, sampler, n_total, mat_medium, med_tab, med_g, cam_medium, nee,
                 tri_flag, sensor_mat, film_transparent,
-                tri_tex, tex_data, tex_info, mat_tex, mat_nstr, tex_row, sph_lo, sph_hi):
+                tri_tex, tex_data, tex_info, mat_tex, mat_nstr, tex_row, sph_lo, sph_hi, work, mw, pm_tex, lc, stack):
     """Add samples s0 .. s1-1 of every pixel of rows y0 .. y1-1 to ``film`` (H, W, 5) float64.
 
     cmf: (N_LAMBDA, 3) x̄, ȳ, z̄ of the observer, or (N_LAMBDA, 4) with V(λ) in column 3 when
@@ -558,6 +567,9 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
     pdf 1/Ω), otherwise by area (pdf r² / (A cos θ)); the MIS weight of a BSDF-sampled ray that
     hits an emissive triangle applies the same rule to the ray's origin. sph_lo > sph_hi turns
     the solid-angle branch off (area sampling only).
+
+    work, mw, pm_tex, lc, stack: scratch arrays from ``scratch`` (the kernel allocates
+    nothing, so it runs without numba's reference counting).
     """
     height = film.shape[0]
     width = film.shape[1]
@@ -573,21 +585,17 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
     # the photometric Y and channel 4 its square; else Y is photometric (5 channels)
     photometric = cmf.shape[1] > 3 and film.shape[2] > 5
     for y in range(y0, y1):
-        pm_tex = np.empty(mat_p.shape[1])
-        stack = np.empty(STACK_SIZE, np.int32)
-        lam = np.empty(NW)
-        pdf_lam = np.empty(NW)
-        beta = np.empty(NW)
-        rad = np.empty(NW)
-        ra = np.empty(NW)
-        rb = np.empty(NW)
-        eta = np.empty(NW)
-        kappa = np.empty(NW)
-        fv = np.empty(NW)
-        le = np.empty(NW)
-        mw = np.empty((media.MW_ROWS, NW))
-        lc = np.empty(NW, np.int64)
-        lf = np.empty(NW)
+        lam = work[0]
+        pdf_lam = work[1]
+        beta = work[2]
+        rad = work[3]
+        ra = work[4]
+        rb = work[5]
+        eta = work[6]
+        kappa = work[7]
+        fv = work[8]
+        le = work[9]
+        lf = work[10]
         for x in range(width):
             pix = y * width + x
             pseed = pixel_seed(seed, pix)
@@ -626,7 +634,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     media.start_path(med_tab, medium, lam, mw)
                 while True:
                     t, prim, bu, bv = closest_hit(ox, oy, oz, dx, dy, dz, t_lo, np.inf,
-                                                  bmin, bmax, child, count, axis, v0, e1, e2, stack)
+                                                  nodes, tris, stack)
                     t_end = t
                     if medium >= 0:
                         t_end = min(t, t_lo + media.free_flight(medium, mw, rnd_f(sampler, key, pseed, s, dim, n_total)))
@@ -656,7 +664,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                                     world_img,
                                     world_dist, world_par, world_row, sph_lo, sph_hi)
                                 media.nee(px, py, pz, dx, dy, dz, g, wx, wy, wz, dist, lpdf, fac, le, emit_prob[ei],
-                                          medium, outer, lam, beta, rad, mw, bmin, bmax, child, count, axis, v0, e1,
+                                          medium, outer, lam, beta, rad, mw, nodes, tris, v0, e1,
                                           e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack)
                             dim += 3
                             dx, dy, dz, prev_pdf = media.hg_sample(g, dx, dy, dz,
@@ -759,8 +767,8 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                             hp = (ox - v0[prim, 0]) * nx + (oy - v0[prim, 1]) * ny + (oz - v0[prim, 2]) * nz
                             if sph_lo <= sph_hi and area >= sph_lo * hp * hp:  # Ω ≤ A / h², as in the NEE
                                 # np.int64: one signature of _sph_triangle for every caller
-                                om, _wx, _wy, _wz = _sph_triangle(np.int64(prim), ox, oy, oz, v0, e1, e2, sph_lo, sph_hi,
-                                                                  -1.0, 0.0)
+                                om, _wx, _wy, _wz = _sph_triangle(np.int64(prim), ox, oy, oz, v0, e1, e2, sph_lo,
+                                                                  sph_hi, -1.0, 0.0)
                             if om > 0.0:
                                 pl = emit_prob[tri_emitter[prim]] / om
                             else:
@@ -861,8 +869,8 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                                 tmax_s = dist * (1.0 - 1e-4) - eps if dist < np.inf else np.inf
                                 if media.unoccluded(has_media, px + side * eps * nx, py + side * eps * ny,
                                                     pz + side * eps * nz, wx, wy, wz, tmax_s, medium, outer,
-                                                    mat_medium[tri_mat[prim]], cos_i, cos_n, lam, mw, fv, bmin, bmax,
-                                                    child, count, axis, v0, e1, e2, tri_mat, mat_model, mat_medium,
+                                                    mat_medium[tri_mat[prim]], cos_i, cos_n, lam, mw, fv, nodes, tris,
+                                                    v0, e1, e2, tri_mat, mat_model, mat_medium,
                                                     med_tab, eps, stack):
                                     pe = emit_prob[ei]
                                     if lpdf == np.inf:  # delta light: NEE only, no MIS

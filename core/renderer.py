@@ -639,7 +639,7 @@ def _rows(prep, film, y0, y1, s0, s1):
                 int(st.spp), prep.mat_medium, prep.med_tab, prep.med_g, int(prep.cam_medium),
                 int(bool(st.next_event)), prep.tri_flag, int(prep.sensor_mat), int(prep.film_transparent),
                 prep.tri_tex, prep.tex_data, prep.tex_info, prep.mat_tex, prep.mat_nstr, int(prep.tex_row),
-                *scratch(prep.mat_p.shape[1]))
+                float(st.tri_solid_angle_min), float(st.tri_solid_angle_max), *scratch(prep.mat_p.shape[1]))
 
 
 def thread_count(threads=None):

@@ -260,6 +260,12 @@ class World:
     image_scale: float = 1.0  # multiplies the image (Blender's Background strength)
 
 
+# Default solid-angle range (sr) in which emissive triangles are sampled as spherical
+# triangles (RenderSettings.tri_solid_angle_min/max; chosen by benchmarks/sphtri_bench.py).
+TRI_SOLID_ANGLE_MIN = 0.1
+TRI_SOLID_ANGLE_MAX = 6.22
+
+
 @dataclass
 class RenderSettings:
     spp: int = 64
@@ -275,6 +281,10 @@ class RenderSettings:
     colour_space: str = "rec709"  # output colour space of the image: 'rec709', 'acescg' or 'xyz' (core.film)
     observer: str = "1931"  # CIE observer of the film's XYZ: '1931' (2°) or '1964' (10°); photometry is V(λ)
     film_transparent: bool = False  # Cycles' Film > Transparent: camera rays that miss give alpha 0, no world
+    # emissive triangles seen under a solid angle in [min, max] sr are sampled uniformly in that
+    # solid angle (compendium item 22), others by area; min > max: always by area
+    tri_solid_angle_min: float = TRI_SOLID_ANGLE_MIN
+    tri_solid_angle_max: float = TRI_SOLID_ANGLE_MAX
 
 
 @dataclass
@@ -587,6 +597,8 @@ def validate(scene: Scene) -> Scene:
         _fail("settings.observer", f"unknown observer {s.observer!r} ('1931': CIE 1931 2°, '1964': CIE 1964 10°)")
     if not isinstance(s.film_transparent, (bool, np.bool_)):
         _fail("settings.film_transparent", f"expected true or false, got {s.film_transparent!r}")
+    _check_number("settings.tri_solid_angle_min", s.tri_solid_angle_min, lo=0.0, hi=4.0 * math.pi)
+    _check_number("settings.tri_solid_angle_max", s.tri_solid_angle_max, lo=0.0, hi=4.0 * math.pi)
     return scene
 
 

@@ -7,7 +7,9 @@ Per path: N_WAVELENGTHS wavelengths (a hero and equally offset companions in the
 primary sample space of the visible-wavelength density), next-event estimation on
 emitters (emissive triangles and analytic area lights, chosen in proportion to their
 power) combined with cosine-weighted BSDF sampling by the power heuristic (compendium
-items 27–28, 51–52), and Russian roulette. Radiance becomes CIE XYZ per sample and is
+items 27–28, 51–52), and Russian roulette. An emissive triangle is sampled uniformly in
+the solid angle it subtends (item 22, Arvo's spherical triangles) when that solid angle is
+in a range given by the render settings (large, near emitters), else by area. Radiance becomes CIE XYZ per sample and is
 summed into the film: X, Y, Z, sample count, Y².
 
 Every random number is a pure function of (seed, pixel, sample, dimension), and each
@@ -29,6 +31,7 @@ from .bvh import STACK_SIZE, trace_closest
 from .camera import camera_ray
 from .lights import env_lookup, env_sample, hit_light, sample_light, sun_hit
 from ..sampling.qmc import pixel_seed, qmc_sample
+from ..sampling.sphtri import SMALL_SOLID_ANGLE, sample_spherical_triangle, spherical_triangle_solid_angle
 from ..sampling.tags import RANDOMIZE_OWEN, SAMPLER_INDEPENDENT
 from .spectrum import lookup
 from .rng import path_key, shift_32, sobol_02, sobol_pair, uniform
@@ -142,24 +145,79 @@ def power_heuristic(pa, pb):
     return a / (a + b)
 
 
+@function
+def _sph_triangle(tp, px, py, pz, v0, e1, e2, sph_lo, sph_hi, ua, ub):
+    """The solid-angle branch of emissive-triangle sampling (compendium item 22), compiled
+    once as a function of its own (Arvo's construction inlined at each caller would add to
+    the path kernel's compile time).
+
+    The rule depends on p and the triangle only: with Ω the triangle's solid angle seen
+    from p (Van Oosterom–Strackee), the triangle is sampled uniformly in solid angle when
+    max(sph_lo, SMALL_SOLID_ANGLE) ≤ Ω ≤ sph_hi, else by area. Returns (Ω, wx, wy, wz):
+    Ω = 0 when the rule picks area sampling; the direction is drawn (Arvo 1995) only when
+    ua ≥ 0 (ua < 0: just the rule and Ω, for the MIS weight of a BSDF-sampled hit). The
+    corners are taken relative to p in the same float operations for both uses, so the
+    NEE and the MIS weight see the same Ω."""
+    ax = v0[tp, 0] - px
+    ay = v0[tp, 1] - py
+    az = v0[tp, 2] - pz
+    bx = ax + e1[tp, 0]
+    by = ay + e1[tp, 1]
+    bz = az + e1[tp, 2]
+    cx = ax + e2[tp, 0]
+    cy = ay + e2[tp, 1]
+    cz = az + e2[tp, 2]
+    om = spherical_triangle_solid_angle(ax, ay, az, bx, by, bz, cx, cy, cz)
+    if not (om >= max(sph_lo, SMALL_SOLID_ANGLE) and om <= sph_hi):
+        return 0.0, 0.0, 0.0, 1.0
+    if ua < 0.0:
+        return om, 0.0, 0.0, 1.0
+    wx, wy, wz, pdf = sample_spherical_triangle(ax, ay, az, bx, by, bz, cx, cy, cz, ua, ub)
+    if not (pdf > 0.0):
+        return 0.0, 0.0, 0.0, 1.0
+    return om, wx, wy, wz
+
+
 @inline
-def _triangle_sample(tp, ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale, mat_emis_two):
-    """A point on emissive triangle ``tp`` seen from p: (wx, wy, wz, dist, solid-angle pdf,
-    fac, spectrum row, scale); fac = 0 when the point shows p its back or nothing."""
+def _triangle_sample(tp, ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale, mat_emis_two, sph_lo,
+                     sph_hi):
+    """A direction towards emissive triangle ``tp`` seen from p: (wx, wy, wz, dist, solid-angle
+    pdf, fac, spectrum row, scale); fac = 0 when the triangle shows p its back (one-sided
+    emitters) or nothing.
+
+    Two strategies, chosen by a rule of (p, triangle) alone (``_sph_triangle``): uniform in
+    the triangle's solid angle Ω when sph_lo ≤ Ω ≤ sph_hi (pdf 1/Ω: no 1/r² nor emitter
+    cosine left in the estimate, which matters for large, near emitters), else a uniform
+    point on its area (pdf r² / (A cos θ_y)). The MIS weight of a BSDF-sampled ray that hits
+    the triangle applies the same rule (render_rows). The emitted radiance is constant over
+    the triangle, so in either measure fac is 1 on the emitting side."""
+    lnx = e1[tp, 1] * e2[tp, 2] - e1[tp, 2] * e2[tp, 1]
+    lny = e1[tp, 2] * e2[tp, 0] - e1[tp, 0] * e2[tp, 2]
+    lnz = e1[tp, 0] * e2[tp, 1] - e1[tp, 1] * e2[tp, 0]
+    ll = math.sqrt(lnx * lnx + lny * lny + lnz * lnz)
+    lm = tri_mat[tp]
+    # which side of the plane p is on (the same for every point of the triangle)
+    hgt = (px - v0[tp, 0]) * lnx + (py - v0[tp, 1]) * lny + (pz - v0[tp, 2]) * lnz
+    if ll == 0.0 or hgt == 0.0 or (hgt < 0.0 and mat_emis_two[lm] == 0):
+        return 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, mat_emis[lm], 0.0
+    # Ω ≤ A / h² (h: p's distance to the plane): most small, far emitters never call the branch
+    if sph_lo <= sph_hi and ll * ll * ll >= 2.0 * sph_lo * hgt * hgt:
+        om, wx, wy, wz = _sph_triangle(np.int64(tp), px, py, pz, v0, e1, e2, sph_lo, sph_hi, ua, ub)
+        if om > 0.0:
+            # distance to the triangle's plane along w
+            wn = -(wx * lnx + wy * lny + wz * lnz)
+            if hgt * wn <= 0.0:
+                return wx, wy, wz, 0.0, 0.0, 0.0, mat_emis[lm], 0.0
+            return wx, wy, wz, hgt / wn, 1.0 / om, 1.0, mat_emis[lm], mat_emis_scale[lm]
     su = math.sqrt(ua)
     b1 = 1.0 - su
     b2 = ub * su
     wx = v0[tp, 0] + b1 * e1[tp, 0] + b2 * e2[tp, 0] - px
     wy = v0[tp, 1] + b1 * e1[tp, 1] + b2 * e2[tp, 1] - py
     wz = v0[tp, 2] + b1 * e1[tp, 2] + b2 * e2[tp, 2] - pz
-    lnx = e1[tp, 1] * e2[tp, 2] - e1[tp, 2] * e2[tp, 1]
-    lny = e1[tp, 2] * e2[tp, 0] - e1[tp, 0] * e2[tp, 2]
-    lnz = e1[tp, 0] * e2[tp, 1] - e1[tp, 1] * e2[tp, 0]
-    ll = math.sqrt(lnx * lnx + lny * lny + lnz * lnz)
     d2 = wx * wx + wy * wy + wz * wz
     dist = math.sqrt(d2)
-    lm = tri_mat[tp]
-    if ll == 0.0 or dist == 0.0:
+    if dist == 0.0:
         return 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, mat_emis[lm], 0.0
     wx /= dist
     wy /= dist
@@ -176,13 +234,14 @@ def _triangle_sample(tp, ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_
 def _emitter_sample(ei, ua, ub, px, py, pz, lam, le, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale, mat_emis_two,
                     spec, light_kind, light_geo, light_prof, light_spec, light_scale, light_two_sided, emit_tri,
                     emit_light,
-                    world_img, world_dist, world_par, world_row):
+                    world_img, world_dist, world_par, world_row, sph_lo, sph_hi):
     """Emitter ``ei`` sampled from p, as the surface NEE does: (wx, wy, wz, dist, solid-angle
     pdf (inf: delta), fac) and its emitted spectral radiance (or intensity) into ``le``.
     Used by the surface NEE and at scattering points in media (core/kernels/media.py)."""
     if emit_tri[ei] >= 0:
         wx, wy, wz, dist, lpdf, fac, l_row, l_scale = _triangle_sample(
-            emit_tri[ei], ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale, mat_emis_two)
+            emit_tri[ei], ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale, mat_emis_two, sph_lo,
+            sph_hi)
         for i in range(NW):
             le[i] = l_scale * lookup(spec, l_row, lam[i])
     elif emit_light[ei] >= 0:
@@ -431,7 +490,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                 world_spec, world_scale, world_img, world_dist, world_par, world_row, world_emit,
                 spectral, aov, tri_nrm, spec_alb, sampler, n_total, mat_medium, med_tab, med_g, cam_medium, nee,
                 tri_flag, sensor_mat, film_transparent,
-                tri_tex, tex_data, tex_info, mat_tex, mat_nstr, tex_row, work, mw, pm_tex, lc, stack):
+                tri_tex, tex_data, tex_info, mat_tex, mat_nstr, tex_row, sph_lo, sph_hi, work, mw, pm_tex, lc, stack):
     """Add samples s0 .. s1-1 of every pixel of rows y0 .. y1-1 to ``film`` (H, W, 5) float64.
 
     cmf: (N_LAMBDA, 3) x̄, ȳ, z̄ of the observer, or (N_LAMBDA, 4) with V(λ) in column 3 when
@@ -502,6 +561,12 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
     textures and their table; mat_tex (K, 3) each material's base colour, roughness and
     normal texture (-1 none), mat_nstr (K,) its normal strength; tex_row the first of the
     three reflectance basis rows of ``spec`` a base colour texel's rgb weighs.
+
+    Emissive triangles (compendium item 22): seen from a shading point under a solid angle Ω
+    in [sph_lo, sph_hi] sr, a triangle is sampled uniformly in Ω (Arvo's spherical triangle,
+    pdf 1/Ω), otherwise by area (pdf r² / (A cos θ)); the MIS weight of a BSDF-sampled ray that
+    hits an emissive triangle applies the same rule to the ray's origin. sph_lo > sph_hi turns
+    the solid-angle branch off (area sampling only).
 
     work, mw, pm_tex, lc, stack: scratch arrays from ``scratch`` (the kernel allocates
     nothing, so it runs without numba's reference counting).
@@ -597,7 +662,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                                     tri_mat, mat_emis, mat_emis_scale, mat_emis_two, spec, light_kind, light_geo,
                                     light_prof, light_spec, light_scale, light_two_sided, emit_tri, emit_light,
                                     world_img,
-                                    world_dist, world_par, world_row)
+                                    world_dist, world_par, world_row, sph_lo, sph_hi)
                                 media.nee(px, py, pz, dx, dy, dz, g, wx, wy, wz, dist, lpdf, fac, le, emit_prob[ei],
                                           medium, outer, lam, beta, rad, mw, nodes, tris, v0, e1,
                                           e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack)
@@ -696,7 +761,18 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     if mat_emis[m] >= 0 and (cos_i > 0.0 or (cos_i < 0.0 and mat_emis_two[m] != 0)):
                         w = 1.0
                         if not prev_delta and do_nee:
-                            pl = emit_prob[tri_emitter[prim]] * t * t / (area * abs(cos_i))
+                            # the light pdf of this direction under the NEE's rule for (origin,
+                            # triangle): 1/Ω when it samples the solid angle, else by area
+                            om = 0.0
+                            hp = (ox - v0[prim, 0]) * nx + (oy - v0[prim, 1]) * ny + (oz - v0[prim, 2]) * nz
+                            if sph_lo <= sph_hi and area >= sph_lo * hp * hp:  # Ω ≤ A / h², as in the NEE
+                                # np.int64: one signature of _sph_triangle for every caller
+                                om, _wx, _wy, _wz = _sph_triangle(np.int64(prim), ox, oy, oz, v0, e1, e2, sph_lo,
+                                                                  sph_hi, -1.0, 0.0)
+                            if om > 0.0:
+                                pl = emit_prob[tri_emitter[prim]] / om
+                            else:
+                                pl = emit_prob[tri_emitter[prim]] * t * t / (area * abs(cos_i))
                             w = power_heuristic(prev_pdf, pl)
                         for i in range(NW):
                             rad[i] += beta[i] * w * mat_emis_scale[m] * at(spec, mat_emis[m], lc[i], lf[i])
@@ -768,7 +844,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                         if emit_tri[ei] >= 0:  # emissive triangles inline: no function call
                             wx, wy, wz, dist, lpdf, fac, l_row, l_scale = _triangle_sample(
                                 emit_tri[ei], ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale,
-                                mat_emis_two)
+                                mat_emis_two, sph_lo, sph_hi)
                             for i in range(NW):
                                 le[i] = l_scale * at(spec, l_row, lc[i], lf[i])
                         else:
@@ -776,7 +852,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                                 ei, ua, ub, px, py, pz, lam, le, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale,
                                 mat_emis_two, spec, light_kind, light_geo, light_prof, light_spec, light_scale,
                                 light_two_sided,
-                                emit_tri, emit_light, world_img, world_dist, world_par, world_row)
+                                emit_tri, emit_light, world_img, world_dist, world_par, world_row, sph_lo, sph_hi)
                         cos_n = snx * wx + sny * wy + snz * wz
                         if fac > 0.0 and lpdf > 0.0 and cos_n * (nx * wx + ny * wy + nz * wz) > 0.0:
                             wix = wx * tx + wy * ty + wz * tz

@@ -48,16 +48,15 @@ QUAD = [(-0.6, -0.9), (1.1, -0.9), (1.1, 0.8), (-0.6, 0.8)]  # off-centre: no sy
 
 
 def quad_scene(rule, height=0.3, facing_down=True, two_sided=False, rho=0.5, lum=100.0, res=6, spp=256, seed=1,
-               max_depth=0):
+               max_depth=0, floor_half=2.0):
     """A Lambertian floor z = 0 under an emissive quad (2 triangles) at ``height``; the camera
     looks straight down at the origin through a long lens, so every pixel sees (almost) the
     point under it, whose radiance is ρ E / π."""
     spectra = SpectrumTable.empty()
     r = spectra.add("grey", flat_reflectance(rho), C.SPECTRUM_BOUNDED)
     e = spectra.add("flat", flat_emission(), C.SPECTRUM_UNBOUNDED)
-    # a 4 m floor: the scene's size sets the ray offsets (EPS_REL · scene scale), and with a
-    # 40 m floor the NEE of this near panel loses most of its contribution (a separate issue)
-    s = 2.0
+    # the floor's size sets the scene scale and so the ray offsets (EPS_REL · scene scale)
+    s = floor_half
     floor = Mesh("floor", np.array([[-s, -s, 0], [s, -s, 0], [s, s, 0], [-s, s, 0]], np.float32),
                  np.array([[0, 1, 2], [0, 2, 3]], np.int32), np.zeros(2, np.int32))
     pos = np.array([(x, y, height) for x, y in QUAD], np.float32)
@@ -133,6 +132,22 @@ def _z(a, b):
     se = np.sqrt(da.variance + db.variance)
     ok = se > 0
     return (da.luminance - db.luminance)[ok] / se[ok], da, db
+
+
+@pytest.mark.statistical
+@pytest.mark.parametrize("rule", [SPHERICAL, AREA_ONLY], ids=["spherical", "area"])
+def test_large_scene_keeps_grazing_light_from_a_near_emitter(rule):
+    """The same quad over a 40 m floor (scene scale 20, so ray offsets 20x larger): the NEE
+    shadow ray starts eps off the floor, and must stop short of the emitter's plane as seen
+    from there. Cut off by the distance from the floor point instead, grazing samples hit
+    their own triangle and counted as blocked: 33.0 (area) and 28.6 (solid angle) against
+    44.75 before the fix."""
+    rho, lum, h = 0.5, 100.0, 0.3
+    film, _ = core.render(quad_scene(rule, height=h, rho=rho, lum=lum, spp=512, floor_half=20.0), threads=2)
+    mean, se = _mean_and_se(film)
+    f = lambert_irradiance_factor(np.zeros(3), np.array([0.0, 0.0, 1.0]), [(x, y, h) for x, y in QUAD])
+    expected = rho * lum * f / np.pi
+    assert abs(mean - expected) < 4.5 * se + 2e-3 * expected, (mean, expected, se)
 
 
 @pytest.mark.statistical

@@ -265,6 +265,30 @@ def _emitter_sample(ei, ua, ub, px, py, pz, lam, le, v0, e1, e2, tri_mat, mat_em
 
 
 @inline
+def _shadow_tmax(dist, eps, tp, ox, oy, oz, wx, wy, wz, v0, e1, e2):
+    """How far the NEE shadow ray from the offset origin o (the shading point moved eps off
+    its surface) towards a light sample ``dist`` away from the shading point may look for
+    occluders: short of the sample by a relative 1e-4 and eps, and, when the sample lies on
+    emissive triangle ``tp`` (-1: an analytic light or the world), short of that triangle's
+    plane as seen from o. Measured from the shading point alone, a grazing sample's own
+    triangle could come before the cut-off and block it (the plane is nearer to o by about
+    eps / cos along the ray), which lost light from large emitters in large scenes."""
+    if dist == np.inf:
+        return np.inf
+    tmax = dist * (1.0 - 1e-4) - eps
+    if tp >= 0:
+        nx = e1[tp, 1] * e2[tp, 2] - e1[tp, 2] * e2[tp, 1]
+        ny = e1[tp, 2] * e2[tp, 0] - e1[tp, 0] * e2[tp, 2]
+        nz = e1[tp, 0] * e2[tp, 1] - e1[tp, 1] * e2[tp, 0]
+        den = wx * nx + wy * ny + wz * nz
+        if den != 0.0:
+            tpl = ((v0[tp, 0] - ox) * nx + (v0[tp, 1] - oy) * ny + (v0[tp, 2] - oz) * nz) / den
+            if tpl > 0.0:
+                tmax = min(tmax, tpl * (1.0 - 1e-4))
+    return tmax
+
+
+@inline
 def _lambert_eval(pm, ra, woz, wiz, fv):
     """bsdf_eval for MAT_LAMBERT, inline (the same arithmetic, so the same bits): the
     commonest material skips the dispatch's function call."""
@@ -866,9 +890,11 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                                 fmax = max(fmax, fv[i])
                             if fmax > 0.0:
                                 side = 1.0 if cos_n > 0.0 else -1.0
-                                tmax_s = dist * (1.0 - 1e-4) - eps if dist < np.inf else np.inf
-                                if media.unoccluded(has_media, px + side * eps * nx, py + side * eps * ny,
-                                                    pz + side * eps * nz, wx, wy, wz, tmax_s, medium, outer,
+                                sox = px + side * eps * nx
+                                soy = py + side * eps * ny
+                                soz = pz + side * eps * nz
+                                tmax_s = _shadow_tmax(dist, eps, emit_tri[ei], sox, soy, soz, wx, wy, wz, v0, e1, e2)
+                                if media.unoccluded(has_media, sox, soy, soz, wx, wy, wz, tmax_s, medium, outer,
                                                     mat_medium[tri_mat[prim]], cos_i, cos_n, lam, mw, fv, nodes, tris,
                                                     v0, e1, e2, tri_mat, mat_model, mat_medium,
                                                     med_tab, eps, stack):

@@ -108,6 +108,21 @@ def kernel_cached():
     return os.path.exists(index) or bool(glob.glob(os.path.join(os.path.dirname(index), "path.render_rows-*.nbi")))
 
 
+def command():
+    """The second process's command line and environment, or None when this interpreter
+    cannot start one. Only a Python executable is started (in Blender, sys.executable is
+    the bundled Python since 2.91; an older Blender binary given ``-c`` would do something
+    else entirely), and it gets this process's module search path: Blender adds the
+    extension's wheels (numba among them) to sys.path at run time, which a bare interpreter
+    would not see."""
+    exe = sys.executable or ""
+    if not os.path.basename(exe).lower().startswith("python") or not os.path.isfile(exe):
+        return None
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join(p for p in sys.path if p and os.path.isdir(p))
+    return [exe, "-c", _BOOT, _PKG, _ROOT], env
+
+
 def start():
     """Start the second process if the kernel is not compiled yet, in this process or in the
     cache, and this machine has a second core. Returns the Popen or None."""
@@ -116,10 +131,12 @@ def start():
     try:
         from .renderer import kernels_compiled
 
-        if kernels_compiled() or kernel_cached():
+        cmd = command()
+        if cmd is None or kernels_compiled() or kernel_cached():
             return None
-        return subprocess.Popen([sys.executable, "-c", _BOOT, _PKG, _ROOT], stdin=subprocess.DEVNULL,
-                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=dict(os.environ))
+        argv, env = cmd
+        return subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                                stderr=subprocess.DEVNULL, env=env)
     except Exception:  # noqa: BLE001 - no second process: compile everything here
         return None
 

@@ -47,6 +47,19 @@ def test_no_second_process_when_the_kernel_is_ready(rendered):
     warmup.finish(None)  # nothing to stop
 
 
+def test_only_a_python_executable_is_started(monkeypatch):
+    """An interpreter whose executable is not Python (an old Blender binary) starts nothing;
+    a Python one gets this process's module search path (Blender adds the extension's
+    wheels to sys.path at run time)."""
+    monkeypatch.setattr(sys, "executable", "/opt/blender/blender")
+    assert warmup.command() is None
+    monkeypatch.undo()
+    argv, env = warmup.command()
+    assert argv[0] == sys.executable and argv[1] == "-c"
+    numba_dir = os.path.dirname(os.path.dirname(os.path.abspath(__import__("numba").__file__)))
+    assert numba_dir in env["PYTHONPATH"].split(os.pathsep)
+
+
 def test_switch_off(monkeypatch):
     monkeypatch.setenv("SPECTRAL_GI_PARALLEL_COMPILE", "0")
     assert warmup.start() is None

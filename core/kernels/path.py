@@ -28,7 +28,7 @@ from ..bsdfs.phong import lambert_sample_dir
 from . import media
 from . import textures as tex
 from .bvh import STACK_SIZE, trace_closest
-from .camera import camera_ray
+from .camera import CAM_LENS_R, camera_ray
 from .lights import env_lookup, env_sample, hit_light, sample_light, sun_hit
 from ..sampling.qmc import pixel_seed, qmc_sample
 from ..sampling.sphtri import SMALL_SOLID_ANGLE, sample_spherical_triangle, spherical_triangle_solid_angle
@@ -605,6 +605,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
     eps = EPS_REL * scene_scale
     has_media = med_tab.shape[0] > 0
     has_tex = tri_tex.shape[0] > 0
+    thin_lens = cam[CAM_LENS_R] > 0.0
     # a 4th cmf column is V(λ) (an observer other than CIE 1931): the film's channel 5 sums
     # the photometric Y and channel 4 its square; else Y is photometric (5 channels)
     photometric = cmf.shape[1] > 3 and film.shape[2] > 5
@@ -635,12 +636,17 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     pdf_lam[i] = visible_pdf(lam[i])
                     beta[i] = 1.0
                     rad[i] = 0.0
-                # camera ray: dimensions 1-2 the pixel filter, 3-4 the lens
+                # camera ray: dimensions 1-2 the pixel filter, 3-4 the lens (drawn only for a
+                # thin lens: a pinhole ignores them, and each dimension is a pure function of
+                # its number, so skipping them changes nothing else)
+                u3 = 0.5
+                u4 = 0.5
+                if thin_lens:
+                    u3 = rnd_f(sampler, key, pseed, s, np.int64(3), n_total)
+                    u4 = rnd_f(sampler, key, pseed, s, np.int64(4), n_total)
                 ox, oy, oz, dx, dy, dz = camera_ray(cam, filt, x, y, width, height,
                                                     rnd_f(sampler, key, pseed, s, np.int64(1), n_total),
-                                                    rnd_f(sampler, key, pseed, s, np.int64(2), n_total),
-                                                    rnd_f(sampler, key, pseed, s, np.int64(3), n_total),
-                                                    rnd_f(sampler, key, pseed, s, np.int64(4), n_total))
+                                                    rnd_f(sampler, key, pseed, s, np.int64(2), n_total), u3, u4)
                 dim = np.int64(5)
                 depth = 0
                 prev_pdf = 0.0

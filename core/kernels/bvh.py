@@ -438,6 +438,15 @@ def intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, tris, p, tmin, tma
 
 
 @inline
+def triangle_normal(e1, e2, p):
+    """e1 × e2 of leaf triangle ``p``: its geometric normal, of length twice its area (the
+    one place the renderer derives it, for shading, emitter sampling and media)."""
+    return (e1[p, 1] * e2[p, 2] - e1[p, 2] * e2[p, 1],
+            e1[p, 2] * e2[p, 0] - e1[p, 0] * e2[p, 2],
+            e1[p, 0] * e2[p, 1] - e1[p, 1] * e2[p, 0])
+
+
+@inline
 def _inv(d):
     if d == 0.0:
         return 1e300

@@ -38,7 +38,7 @@ import numpy as np
 
 from .. import constants as C
 from ..jit import function, inline
-from .bvh import trace_closest, trace_occluded
+from .bvh import trace_closest, trace_occluded, triangle_normal
 from .spectrum import lookup
 
 NW = C.N_WAVELENGTHS
@@ -267,9 +267,7 @@ def shadow(ox, oy, oz, wx, wy, wz, dist, medium, outer, lam, mw, nodes, tris,
         m = tri_mat[prim]
         if mat_model[m] != C.MAT_NULL:
             break
-        nx = e1[prim, 1] * e2[prim, 2] - e1[prim, 2] * e2[prim, 1]
-        ny = e1[prim, 2] * e2[prim, 0] - e1[prim, 0] * e2[prim, 2]
-        nz = e1[prim, 0] * e2[prim, 1] - e1[prim, 1] * e2[prim, 0]
+        nx, ny, nz = triangle_normal(e1, e2, prim)
         medium, outer = crossed(medium, outer, mat_medium[m], nx * wx + ny * wy + nz * wz < 0.0)
         t0 = t + eps
         if t0 >= dist:

@@ -27,7 +27,7 @@ from ..bsdfs.params import ALPHA_MIN, BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE,
 from ..bsdfs.phong import lambert_sample_dir
 from . import media
 from . import textures as tex
-from .bvh import STACK_SIZE, trace_closest
+from .bvh import STACK_SIZE, trace_closest, triangle_normal
 from .camera import CAM_LENS_R, camera_ray
 from .lights import env_lookup, env_sample, hit_light, sample_light, sun_hit
 from ..sampling.qmc import pixel_seed, qmc_sample
@@ -191,9 +191,7 @@ def _triangle_sample(tp, ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_
     point on its area (pdf r² / (A cos θ_y)). The MIS weight of a BSDF-sampled ray that hits
     the triangle applies the same rule (render_rows). The emitted radiance is constant over
     the triangle, so in either measure fac is 1 on the emitting side."""
-    lnx = e1[tp, 1] * e2[tp, 2] - e1[tp, 2] * e2[tp, 1]
-    lny = e1[tp, 2] * e2[tp, 0] - e1[tp, 0] * e2[tp, 2]
-    lnz = e1[tp, 0] * e2[tp, 1] - e1[tp, 1] * e2[tp, 0]
+    lnx, lny, lnz = triangle_normal(e1, e2, tp)
     ll = math.sqrt(lnx * lnx + lny * lny + lnz * lnz)
     lm = tri_mat[tp]
     # which side of the plane p is on (the same for every point of the triangle)
@@ -277,9 +275,7 @@ def _shadow_tmax(dist, eps, tp, ox, oy, oz, wx, wy, wz, v0, e1, e2):
         return np.inf
     tmax = dist * (1.0 - 1e-4) - eps
     if tp >= 0:
-        nx = e1[tp, 1] * e2[tp, 2] - e1[tp, 2] * e2[tp, 1]
-        ny = e1[tp, 2] * e2[tp, 0] - e1[tp, 0] * e2[tp, 2]
-        nz = e1[tp, 0] * e2[tp, 1] - e1[tp, 1] * e2[tp, 0]
+        nx, ny, nz = triangle_normal(e1, e2, tp)
         den = wx * nx + wy * ny + wz * nz
         if den != 0.0:
             tpl = ((v0[tp, 0] - ox) * nx + (v0[tp, 1] - oy) * ny + (v0[tp, 2] - oz) * nz) / den
@@ -731,11 +727,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     px = ox + t * dx
                     py = oy + t * dy
                     pz = oz + t * dz
-                    ax_ = e1[prim, 0]; ay_ = e1[prim, 1]; az_ = e1[prim, 2]
-                    bx_ = e2[prim, 0]; by_ = e2[prim, 1]; bz_ = e2[prim, 2]
-                    nx = ay_ * bz_ - az_ * by_
-                    ny = az_ * bx_ - ax_ * bz_
-                    nz = ax_ * by_ - ay_ * bx_
+                    nx, ny, nz = triangle_normal(e1, e2, prim)
                     nlen = math.sqrt(nx * nx + ny * ny + nz * nz)
                     if nlen == 0.0:
                         break

@@ -26,11 +26,20 @@ The tree depth is at most ``MAX_DEPTH``: below ``FALLBACK_DEPTH`` the builder sp
 SAH, deeper it halves the triangle range, which needs at most 31 more levels for fewer
 than 2^31 triangles. Traversal pushes at most one child per record level (3 int32
 slots: reference, count, entry distance), so ``STACK_SIZE`` slots always suffice.
+
+Memory latency: beyond a few million triangles the records and rows no longer fit the
+caches and a ray's node visits form a chain of memory round trips. A pushed child is
+prefetched when it is pushed (``prefetch.py``), so it has arrived when it is popped. The
+batch kernels go further: each thread keeps ``LANES`` rays in flight and advances them
+in turn, one node or leaf each, prefetching what each ray reads next, so the round trips
+of different rays overlap (the rays' paths and hits are exactly those of the one-ray
+functions the path kernel calls).
 """
 import numpy as np
 from numba import prange
 
 from ..jit import function, inline, kernel
+from .prefetch import prefetch
 
 N_BINS = 16
 MAX_LEAF = 8  # ranges this small always become leaves (fewer nodes, same ray speed as 4)
@@ -463,6 +472,17 @@ def _below(t):
 
 
 @inline
+def _prefetch_child(nodes, tris, ref, cnt):
+    """Start loading a child the traversal will visit later: its record, or its leaf's
+    triangle rows (36 bytes each, so every line of the run gets one)."""
+    if cnt == 0:
+        prefetch(nodes, ref)
+    else:
+        for k in range(ref, ref + cnt):
+            prefetch(tris, k)
+
+
+@inline
 def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     """Closest triangle hit in (tmin, tmax). Returns (t, prim, u, v); prim = -1 on a miss.
 
@@ -493,6 +513,7 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
                     stack[sp] = links[ref, L_REF]
                     stack[sp + 1] = links[ref, L_CNT]
                     fstack[sp + 2] = _below(tl)
+                    _prefetch_child(nodes, tris, stack[sp], stack[sp + 1])
                     sp += 3
                     cnt = links[ref, R_CNT]
                     ref = links[ref, R_REF]
@@ -501,6 +522,7 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
                         stack[sp] = links[ref, R_REF]
                         stack[sp + 1] = links[ref, R_CNT]
                         fstack[sp + 2] = _below(tr)
+                        _prefetch_child(nodes, tris, stack[sp], stack[sp + 1])
                         sp += 3
                     cnt = links[ref, L_CNT]
                     ref = links[ref, L_REF]
@@ -534,8 +556,15 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
 
 @inline
 def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
-    """True if any triangle is hit in (tmin, tmax). Nearer child first (the other pushed
-    as reference and count), any hit ends it."""
+    """True if any triangle is hit in (tmin, tmax); any hit ends it.
+
+    Of two children hit, the *farther* is visited first (the other pushed as reference and
+    count). A shadow ray starts on a surface, inside the boxes of that surface's own
+    neighbourhood (entry distance 0), which a ray leaving the surface rarely hits again;
+    its blocker is more often in a box it enters later. On the scale benchmark's shadow
+    rays this visits 1.4 % (1 M triangles) and 3.7 % (16 M) fewer records and 7 and 9 %
+    fewer triangles than nearer-first. The answer does not depend on the order.
+    """
     if tris.shape[0] == 0:
         return False
     links = nodes.view(np.int32)
@@ -550,9 +579,10 @@ def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
             tl = _slab(ox, oy, oz, ix, iy, iz, nodes, ref, 0, tmax)
             tr = _slab(ox, oy, oz, ix, iy, iz, nodes, ref, 6, tmax)
             if tl < np.inf:
-                if tr < tl:
+                if tl < tr < np.inf:  # the farther child first (see the docstring)
                     stack[sp] = links[ref, L_REF]
                     stack[sp + 1] = links[ref, L_CNT]
+                    _prefetch_child(nodes, tris, stack[sp], stack[sp + 1])
                     sp += 2
                     cnt = links[ref, R_CNT]
                     ref = links[ref, R_REF]
@@ -560,6 +590,7 @@ def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
                     if tr < np.inf:
                         stack[sp] = links[ref, R_REF]
                         stack[sp + 1] = links[ref, R_CNT]
+                        _prefetch_child(nodes, tris, stack[sp], stack[sp + 1])
                         sp += 2
                     cnt = links[ref, L_CNT]
                     ref = links[ref, L_REF]
@@ -594,28 +625,231 @@ def trace_occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     return occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack)
 
 
+LANES = 8  # rays a batch kernel's thread keeps in flight at once
+CHUNK = 2048  # rays per parallel work item of the batch kernels
+
+
+@inline
+def _start_lane(orig, dirs, i, lane, lf, lk):
+    """Load ray ``i``'s constants into lane ``lane``: ``lf`` origin, inverse direction,
+    shear, origin on the shear axes; ``lk`` the axes (see ``ray_setup``)."""
+    ox = orig[i, 0]; oy = orig[i, 1]; oz = orig[i, 2]
+    dx = dirs[i, 0]; dy = dirs[i, 1]; dz = dirs[i, 2]
+    kx, ky, kz, sx, sy, sz = ray_setup(dx, dy, dz)
+    lf[lane, 0] = ox; lf[lane, 1] = oy; lf[lane, 2] = oz
+    lf[lane, 3] = _inv(dx); lf[lane, 4] = _inv(dy); lf[lane, 5] = _inv(dz)
+    lf[lane, 6] = sx; lf[lane, 7] = sy; lf[lane, 8] = sz
+    lf[lane, 9] = _pick(ox, oy, oz, kx); lf[lane, 10] = _pick(ox, oy, oz, ky); lf[lane, 11] = _pick(ox, oy, oz, kz)
+    lk[lane, 0] = kx; lk[lane, 1] = ky; lk[lane, 2] = kz
+
+
 @kernel(parallel=True)
 def trace_closest_batch(orig, dirs, tmax, nodes, tris):
-    """Closest hits of a batch of rays. Returns t (inf on a miss) and prim (leaf order, -1)."""
+    """Closest hits of a batch of rays. Returns t (inf on a miss) and prim (leaf order, -1).
+
+    Each ray takes the same path through the tree as ``closest_hit`` (so the same hit),
+    but a thread traces ``LANES`` rays at once, round robin, one step each (a record's two
+    boxes, or a leaf's triangles, then the choice of the next child or pop): a step ends
+    by prefetching what that ray reads next, and by the time its turn comes again the line
+    has arrived. On scenes far larger than the caches the memory latency of one ray's
+    chain of node visits is then overlapped with the other rays' work.
+    """
     n = orig.shape[0]
     t_out = np.empty(n)
     p_out = np.empty(n, np.int32)
-    for i in prange(n):
-        stack = np.empty(STACK_SIZE, np.int32)
-        t, p, u, v = closest_hit(orig[i, 0], orig[i, 1], orig[i, 2], dirs[i, 0], dirs[i, 1], dirs[i, 2],
-                                 0.0, tmax[i], nodes, tris, stack)
-        t_out[i] = t
-        p_out[i] = p
+    if tris.shape[0] == 0:
+        for i in range(n):
+            t_out[i] = np.inf
+            p_out[i] = -1
+        return t_out, p_out
+    links = nodes.view(np.int32)
+    n_chunks = (n + CHUNK - 1) // CHUNK
+    for c in prange(n_chunks):
+        lo = c * CHUNK
+        hi = min(n, lo + CHUNK)
+        stacks = np.empty((LANES, STACK_SIZE), np.int32)
+        fstacks = stacks.view(np.float32)
+        lf = np.empty((LANES, 12))
+        lk = np.empty((LANES, 3), np.int64)
+        l_ray = np.empty(LANES, np.int64)
+        l_ref = np.zeros(LANES, np.int64)
+        l_cnt = np.zeros(LANES, np.int64)
+        l_sp = np.zeros(LANES, np.int64)
+        l_t = np.empty(LANES)
+        l_p = np.empty(LANES, np.int64)
+        nxt = lo
+        active = 0
+        for j in range(LANES):
+            if nxt < hi:
+                _start_lane(orig, dirs, nxt, j, lf, lk)
+                l_ray[j] = nxt; l_t[j] = tmax[nxt]; l_p[j] = -1
+                nxt += 1
+                active += 1
+            else:
+                l_ray[j] = -1
+        j = 0
+        while active > 0:
+            if l_ray[j] >= 0:
+                ref = l_ref[j]; cnt = l_cnt[j]; sp = l_sp[j]; best_t = l_t[j]
+                ox = lf[j, 0]; oy = lf[j, 1]; oz = lf[j, 2]
+                ix = lf[j, 3]; iy = lf[j, 4]; iz = lf[j, 5]
+                moved = False
+                if cnt == 0:
+                    tl = _slab(ox, oy, oz, ix, iy, iz, nodes, ref, 0, best_t)
+                    tr = _slab(ox, oy, oz, ix, iy, iz, nodes, ref, 6, best_t)
+                    if tl < np.inf:
+                        if tr < tl:
+                            stacks[j, sp] = links[ref, L_REF]
+                            stacks[j, sp + 1] = links[ref, L_CNT]
+                            fstacks[j, sp + 2] = _below(tl)
+                            sp += 3
+                            cnt = links[ref, R_CNT]
+                            ref = links[ref, R_REF]
+                        else:
+                            if tr < np.inf:
+                                stacks[j, sp] = links[ref, R_REF]
+                                stacks[j, sp + 1] = links[ref, R_CNT]
+                                fstacks[j, sp + 2] = _below(tr)
+                                sp += 3
+                            cnt = links[ref, L_CNT]
+                            ref = links[ref, L_REF]
+                        moved = True
+                    elif tr < np.inf:
+                        cnt = links[ref, R_CNT]
+                        ref = links[ref, R_REF]
+                        moved = True
+                else:
+                    kx = lk[j, 0]; ky = lk[j, 1]; kz = lk[j, 2]
+                    sx = lf[j, 6]; sy = lf[j, 7]; sz = lf[j, 8]
+                    okx = lf[j, 9]; oky = lf[j, 10]; okz = lf[j, 11]
+                    for k in range(ref, ref + cnt):
+                        t, u, v = intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, tris, k, 0.0, best_t)
+                        if t < best_t:
+                            best_t = t
+                            l_p[j] = k
+                if not moved:
+                    while sp > 0:
+                        sp -= 3
+                        if fstacks[j, sp + 2] <= best_t:
+                            ref = stacks[j, sp]
+                            cnt = stacks[j, sp + 1]
+                            moved = True
+                            break
+                if moved:
+                    _prefetch_child(nodes, tris, ref, cnt)
+                    l_ref[j] = ref; l_cnt[j] = cnt; l_sp[j] = sp; l_t[j] = best_t
+                else:
+                    i = l_ray[j]
+                    if l_p[j] < 0:
+                        t_out[i] = np.inf
+                        p_out[i] = -1
+                    else:
+                        t_out[i] = best_t
+                        p_out[i] = l_p[j]
+                    l_ref[j] = 0; l_cnt[j] = 0; l_sp[j] = 0
+                    if nxt < hi:
+                        _start_lane(orig, dirs, nxt, j, lf, lk)
+                        l_ray[j] = nxt; l_t[j] = tmax[nxt]; l_p[j] = -1
+                        nxt += 1
+                    else:
+                        l_ray[j] = -1
+                        active -= 1
+            j += 1
+            if j == LANES:
+                j = 0
     return t_out, p_out
 
 
 @kernel(parallel=True)
 def trace_occluded_batch(orig, dirs, tmax, nodes, tris):
-    """Any-hit queries of a batch of segments (origin, unit direction, length)."""
+    """Any-hit queries of a batch of segments (origin, unit direction, length): each ray
+    as in ``occluded``, ``LANES`` of them in flight per thread (see ``trace_closest_batch``)."""
     n = orig.shape[0]
-    out = np.empty(n, np.bool_)
-    for i in prange(n):
-        stack = np.empty(STACK_SIZE, np.int32)
-        out[i] = occluded(orig[i, 0], orig[i, 1], orig[i, 2], dirs[i, 0], dirs[i, 1], dirs[i, 2],
-                          0.0, tmax[i], nodes, tris, stack)
+    out = np.zeros(n, np.bool_)
+    if tris.shape[0] == 0:
+        return out
+    links = nodes.view(np.int32)
+    n_chunks = (n + CHUNK - 1) // CHUNK
+    for c in prange(n_chunks):
+        lo = c * CHUNK
+        hi = min(n, lo + CHUNK)
+        stacks = np.empty((LANES, STACK_SIZE), np.int32)
+        lf = np.empty((LANES, 12))
+        lk = np.empty((LANES, 3), np.int64)
+        l_ray = np.empty(LANES, np.int64)
+        l_ref = np.zeros(LANES, np.int64)
+        l_cnt = np.zeros(LANES, np.int64)
+        l_sp = np.zeros(LANES, np.int64)
+        nxt = lo
+        active = 0
+        for j in range(LANES):
+            if nxt < hi:
+                _start_lane(orig, dirs, nxt, j, lf, lk)
+                l_ray[j] = nxt
+                nxt += 1
+                active += 1
+            else:
+                l_ray[j] = -1
+        j = 0
+        while active > 0:
+            i = l_ray[j]
+            if i >= 0:
+                ref = l_ref[j]; cnt = l_cnt[j]; sp = l_sp[j]
+                tm = tmax[i]
+                moved = False
+                hit = False
+                if cnt == 0:
+                    ox = lf[j, 0]; oy = lf[j, 1]; oz = lf[j, 2]
+                    ix = lf[j, 3]; iy = lf[j, 4]; iz = lf[j, 5]
+                    tl = _slab(ox, oy, oz, ix, iy, iz, nodes, ref, 0, tm)
+                    tr = _slab(ox, oy, oz, ix, iy, iz, nodes, ref, 6, tm)
+                    if tl < np.inf:
+                        if tl < tr < np.inf:  # the farther child first
+                            stacks[j, sp] = links[ref, L_REF]
+                            stacks[j, sp + 1] = links[ref, L_CNT]
+                            sp += 2
+                            cnt = links[ref, R_CNT]
+                            ref = links[ref, R_REF]
+                        else:
+                            if tr < np.inf:
+                                stacks[j, sp] = links[ref, R_REF]
+                                stacks[j, sp + 1] = links[ref, R_CNT]
+                                sp += 2
+                            cnt = links[ref, L_CNT]
+                            ref = links[ref, L_REF]
+                        moved = True
+                    elif tr < np.inf:
+                        cnt = links[ref, R_CNT]
+                        ref = links[ref, R_REF]
+                        moved = True
+                else:
+                    kx = lk[j, 0]; ky = lk[j, 1]; kz = lk[j, 2]
+                    sx = lf[j, 6]; sy = lf[j, 7]; sz = lf[j, 8]
+                    okx = lf[j, 9]; oky = lf[j, 10]; okz = lf[j, 11]
+                    for k in range(ref, ref + cnt):
+                        t, u, v = intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, tris, k, 0.0, tm)
+                        if t < np.inf:
+                            hit = True
+                            break
+                if not moved and not hit and sp > 0:
+                    sp -= 2
+                    ref = stacks[j, sp]
+                    cnt = stacks[j, sp + 1]
+                    moved = True
+                if moved:
+                    _prefetch_child(nodes, tris, ref, cnt)
+                    l_ref[j] = ref; l_cnt[j] = cnt; l_sp[j] = sp
+                else:
+                    out[i] = hit
+                    l_ref[j] = 0; l_cnt[j] = 0; l_sp[j] = 0
+                    if nxt < hi:
+                        _start_lane(orig, dirs, nxt, j, lf, lk)
+                        l_ray[j] = nxt
+                        nxt += 1
+                    else:
+                        l_ray[j] = -1
+                        active -= 1
+            j += 1
+            if j == LANES:
+                j = 0
     return out

@@ -1,10 +1,11 @@
 """Software prefetch for the traversal: a hint that a row of an array will be read soon.
 
 ``prefetch(a, i)`` asks the CPU to start loading the cache line holding the start of row
-``i`` of a C-contiguous array (``llvm.prefetch``: read, keep in all cache levels, data).
+``i`` of an array (``llvm.prefetch``: read, keep in all cache levels, data).
 It neither reads nor faults: an address past the array is harmless, so callers need not
 check bounds. Compiled into each caller (a numba intrinsic), so numba's on-disk cache
-keeps it with the kernel; no ``njit`` involved, the project's jit policy is unaffected.
+keeps it with the kernel; it is not a compiled function of its own, so the project's
+jit policy (core/jit.py) is unaffected.
 """
 from llvmlite import ir
 from numba.core import cgutils, types

@@ -455,6 +455,33 @@ def test_distribution_1d_exact_inversion_and_zero_cells():
     np.testing.assert_allclose(x2[:, 0], x[:, 0], atol=1e-12)
 
 
+def test_guided_distribution_matches_the_binary_search():
+    """The guide table (cutpoint method) finds the same cell as the binary search: same x,
+    pdf and cell for every u, at and next to every cell boundary, zero cells included
+    (they are never sampled), for the camera's filter tables too."""
+    from spectral_gi.core import constants as C
+    from spectral_gi.core.kernels.camera import filter_table
+    from spectral_gi.core.sampling.distrib import build_guided_1d, sample_1d_block, sample_1d_guided
+
+    rng = np.random.default_rng(11)
+    skewed = np.where(rng.random(300) < 0.3, 0.0, rng.random(300) ** 6)  # zero runs, spikes
+    tables = [build_guided_1d(_func_1d()), build_guided_1d(skewed), build_guided_1d(np.zeros(7)),
+              filter_table(C.FILTER_BLACKMAN_HARRIS, 1.5), filter_table(C.FILTER_BOX, 1.0)]
+    for g in tables:
+        n = int(g[0])
+        block = g[:3 + 2 * n]
+        _, cdf, _ = distribution_1d_parts(block)
+        probe = np.concatenate([cdf, np.nextafter(cdf, 2), np.nextafter(cdf, -1), rng.random(4000),
+                                np.arange(n + 1) / n, [-0.5, 1.5]])
+        for u in probe:
+            got = sample_1d_guided(g, u)
+            want = sample_1d_block(block, 0, u)
+            assert got == want, (n, u, got, want)
+        func = block[2:2 + n]
+        if func.sum() > 0:
+            assert all(func[sample_1d_guided(g, u)[2]] > 0 for u in probe)
+
+
 def test_distribution_2d_inverse_and_layout():
     f = _func_2d()
     d = build_distribution_2d(f)
@@ -693,3 +720,20 @@ def test_harness_rejects_a_wrong_sampler():
     assert not chi2_sphere(pts, lambda d: O.spherical_triangle_pdf(a, b, c, d), 0.01, "neg-area", axis=axis,
                            z_range=zr, dump=False).passed
     assert not ztest(1.0, 0.01, 1.1, 0.01).passed
+
+
+def test_visible_wavelength_sampling_inverts_its_cdf_and_reports_its_density():
+    """The path kernel's wavelength draw: λ(u) inverts the cdf (tanh(B(λ − λc)) − TA)/(TB − TA),
+    the density it returns from tanh (sech² = 1 − tanh²) equals the cosh form, and that
+    density integrates to 1 over the visible range."""
+    from spectral_gi.core import constants as C
+    from spectral_gi.core.kernels import path as P
+
+    u = np.linspace(0.0, 1.0, 2001)[:-1] + 1.0 / 4002
+    lam, pdf = np.array([P.sample_visible(v) for v in u]).T
+    assert np.all(np.diff(lam) > 0) and lam[0] > C.LAMBDA_MIN and lam[-1] < C.LAMBDA_MAX
+    cdf = (np.tanh(P.VIS_B * (lam - P.VIS_C)) - P.VIS_TA) / (P.VIS_TB - P.VIS_TA)
+    np.testing.assert_allclose(cdf, u, atol=1e-12)
+    np.testing.assert_allclose(pdf, [P.visible_pdf(x) for x in lam], rtol=1e-10)
+    grid = np.linspace(C.LAMBDA_MIN, C.LAMBDA_MAX, 20001)
+    assert np.trapz([P.visible_pdf(x) for x in grid], grid) == pytest.approx(1.0, rel=1e-7)

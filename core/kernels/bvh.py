@@ -358,7 +358,8 @@ def build_bvh(v0, v1, v2, tris, tv0, te1, te2):
 @inline
 def _slab(ox, oy, oz, ix, iy, iz, nodes, rec, o, tmax):
     """Entry distance of the ray into the box at ``nodes[rec, o:o + 6]`` within [0, tmax],
-    inf if it misses."""
+    inf if it misses. ``rec`` is unsigned (``_u``), so the loads skip numba's negative-index
+    wraparound."""
     t0 = (nodes[rec, o] - ox) * ix
     t1 = (nodes[rec, o + 3] - ox) * ix
     tn = min(t0, t1)
@@ -376,6 +377,13 @@ def _slab(ox, oy, oz, ix, iy, iz, nodes, rec, o, tmax):
     if tn <= tf:
         return tn
     return np.inf
+
+
+@inline
+def _u(i):
+    """An index as unsigned: numba then emits no negative-index wraparound for it (the
+    traversal's indices are never negative)."""
+    return np.uint64(i)
 
 
 @inline
@@ -420,22 +428,27 @@ def intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, tris, p, tmin, tma
     function (negated) in both its triangles, so no ray slips between them. Returns
     (t, u, v) with u, v the weights of v1, v2; t = inf on a miss.
     """
-    paz = np.float64(tris[p, kz])
-    pbz = np.float64(tris[p, 3 + kz])
-    pcz = np.float64(tris[p, 6 + kz])
+    q = _u(p)
+    ux = _u(kx); uy = _u(ky); uz = _u(kz)
+    c3 = _u(3)
+    c6 = _u(6)
+    paz = np.float64(tris[q, uz])
+    pbz = np.float64(tris[q, c3 + uz])
+    pcz = np.float64(tris[q, c6 + uz])
     az = paz - okz
-    ax = (np.float64(tris[p, kx]) - okx) - sx * az
-    ay = (np.float64(tris[p, ky]) - oky) - sy * az
+    ax = (np.float64(tris[q, ux]) - okx) - sx * az
+    ay = (np.float64(tris[q, uy]) - oky) - sy * az
     bz = pbz - okz
-    bx = (np.float64(tris[p, 3 + kx]) - okx) - sx * bz
-    by = (np.float64(tris[p, 3 + ky]) - oky) - sy * bz
+    bx = (np.float64(tris[q, c3 + ux]) - okx) - sx * bz
+    by = (np.float64(tris[q, c3 + uy]) - oky) - sy * bz
     cz = pcz - okz
-    cx = (np.float64(tris[p, 6 + kx]) - okx) - sx * cz
-    cy = (np.float64(tris[p, 6 + ky]) - oky) - sy * cz
+    cx = (np.float64(tris[q, c6 + ux]) - okx) - sx * cz
+    cy = (np.float64(tris[q, c6 + uy]) - oky) - sy * cz
     u = cx * by - cy * bx
     v = ax * cy - ay * cx
     w = bx * ay - by * ax
-    if (u < 0.0 or v < 0.0 or w < 0.0) and (u > 0.0 or v > 0.0 or w > 0.0):
+    # a miss when the edge functions have mixed signs; min/max instead of six branches
+    if min(u, min(v, w)) < 0.0 and max(u, max(v, w)) > 0.0:
         return np.inf, 0.0, 0.0
     det = u + v + w
     if det == 0.0:
@@ -506,30 +519,31 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     cnt = 0
     while True:
         if cnt == 0:
-            tl = _slab(ox, oy, oz, ix, iy, iz, nodes, ref, 0, best_t)
-            tr = _slab(ox, oy, oz, ix, iy, iz, nodes, ref, 6, best_t)
+            uref = _u(ref)
+            tl = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, 0, best_t)
+            tr = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, 6, best_t)
             if tl < np.inf:
                 if tr < tl:
-                    stack[sp] = links[ref, L_REF]
-                    stack[sp + 1] = links[ref, L_CNT]
+                    stack[sp] = links[uref, L_REF]
+                    stack[sp + 1] = links[uref, L_CNT]
                     fstack[sp + 2] = _below(tl)
                     _prefetch_child(nodes, tris, stack[sp], stack[sp + 1])
                     sp += 3
-                    cnt = links[ref, R_CNT]
-                    ref = links[ref, R_REF]
+                    cnt = links[uref, R_CNT]
+                    ref = links[uref, R_REF]
                 else:
                     if tr < np.inf:
-                        stack[sp] = links[ref, R_REF]
-                        stack[sp + 1] = links[ref, R_CNT]
+                        stack[sp] = links[uref, R_REF]
+                        stack[sp + 1] = links[uref, R_CNT]
                         fstack[sp + 2] = _below(tr)
                         _prefetch_child(nodes, tris, stack[sp], stack[sp + 1])
                         sp += 3
-                    cnt = links[ref, L_CNT]
-                    ref = links[ref, L_REF]
+                    cnt = links[uref, L_CNT]
+                    ref = links[uref, L_REF]
                 continue
             elif tr < np.inf:
-                cnt = links[ref, R_CNT]
-                ref = links[ref, R_REF]
+                cnt = links[uref, R_CNT]
+                ref = links[uref, R_REF]
                 continue
         else:
             for k in range(ref, ref + cnt):
@@ -576,28 +590,29 @@ def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     cnt = 0
     while True:
         if cnt == 0:
-            tl = _slab(ox, oy, oz, ix, iy, iz, nodes, ref, 0, tmax)
-            tr = _slab(ox, oy, oz, ix, iy, iz, nodes, ref, 6, tmax)
+            uref = _u(ref)
+            tl = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, 0, tmax)
+            tr = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, 6, tmax)
             if tl < np.inf:
                 if tl < tr < np.inf:  # the farther child first (see the docstring)
-                    stack[sp] = links[ref, L_REF]
-                    stack[sp + 1] = links[ref, L_CNT]
+                    stack[sp] = links[uref, L_REF]
+                    stack[sp + 1] = links[uref, L_CNT]
                     _prefetch_child(nodes, tris, stack[sp], stack[sp + 1])
                     sp += 2
-                    cnt = links[ref, R_CNT]
-                    ref = links[ref, R_REF]
+                    cnt = links[uref, R_CNT]
+                    ref = links[uref, R_REF]
                 else:
                     if tr < np.inf:
-                        stack[sp] = links[ref, R_REF]
-                        stack[sp + 1] = links[ref, R_CNT]
+                        stack[sp] = links[uref, R_REF]
+                        stack[sp + 1] = links[uref, R_CNT]
                         _prefetch_child(nodes, tris, stack[sp], stack[sp + 1])
                         sp += 2
-                    cnt = links[ref, L_CNT]
-                    ref = links[ref, L_REF]
+                    cnt = links[uref, L_CNT]
+                    ref = links[uref, L_REF]
                 continue
             elif tr < np.inf:
-                cnt = links[ref, R_CNT]
-                ref = links[ref, R_REF]
+                cnt = links[uref, R_CNT]
+                ref = links[uref, R_REF]
                 continue
         else:
             for k in range(ref, ref + cnt):
@@ -695,28 +710,29 @@ def trace_closest_batch(orig, dirs, tmax, nodes, tris):
                 ix = lf[j, 3]; iy = lf[j, 4]; iz = lf[j, 5]
                 moved = False
                 if cnt == 0:
-                    tl = _slab(ox, oy, oz, ix, iy, iz, nodes, ref, 0, best_t)
-                    tr = _slab(ox, oy, oz, ix, iy, iz, nodes, ref, 6, best_t)
+                    uref = _u(ref)
+                    tl = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, 0, best_t)
+                    tr = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, 6, best_t)
                     if tl < np.inf:
                         if tr < tl:
-                            stacks[j, sp] = links[ref, L_REF]
-                            stacks[j, sp + 1] = links[ref, L_CNT]
+                            stacks[j, sp] = links[uref, L_REF]
+                            stacks[j, sp + 1] = links[uref, L_CNT]
                             fstacks[j, sp + 2] = _below(tl)
                             sp += 3
-                            cnt = links[ref, R_CNT]
-                            ref = links[ref, R_REF]
+                            cnt = links[uref, R_CNT]
+                            ref = links[uref, R_REF]
                         else:
                             if tr < np.inf:
-                                stacks[j, sp] = links[ref, R_REF]
-                                stacks[j, sp + 1] = links[ref, R_CNT]
+                                stacks[j, sp] = links[uref, R_REF]
+                                stacks[j, sp + 1] = links[uref, R_CNT]
                                 fstacks[j, sp + 2] = _below(tr)
                                 sp += 3
-                            cnt = links[ref, L_CNT]
-                            ref = links[ref, L_REF]
+                            cnt = links[uref, L_CNT]
+                            ref = links[uref, L_REF]
                         moved = True
                     elif tr < np.inf:
-                        cnt = links[ref, R_CNT]
-                        ref = links[ref, R_REF]
+                        cnt = links[uref, R_CNT]
+                        ref = links[uref, R_REF]
                         moved = True
                 else:
                     kx = lk[j, 0]; ky = lk[j, 1]; kz = lk[j, 2]
@@ -799,28 +815,29 @@ def trace_occluded_batch(orig, dirs, tmax, nodes, tris):
                 moved = False
                 hit = False
                 if cnt == 0:
+                    uref = _u(ref)
                     ox = lf[j, 0]; oy = lf[j, 1]; oz = lf[j, 2]
                     ix = lf[j, 3]; iy = lf[j, 4]; iz = lf[j, 5]
-                    tl = _slab(ox, oy, oz, ix, iy, iz, nodes, ref, 0, tm)
-                    tr = _slab(ox, oy, oz, ix, iy, iz, nodes, ref, 6, tm)
+                    tl = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, 0, tm)
+                    tr = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, 6, tm)
                     if tl < np.inf:
                         if tl < tr < np.inf:  # the farther child first
-                            stacks[j, sp] = links[ref, L_REF]
-                            stacks[j, sp + 1] = links[ref, L_CNT]
+                            stacks[j, sp] = links[uref, L_REF]
+                            stacks[j, sp + 1] = links[uref, L_CNT]
                             sp += 2
-                            cnt = links[ref, R_CNT]
-                            ref = links[ref, R_REF]
+                            cnt = links[uref, R_CNT]
+                            ref = links[uref, R_REF]
                         else:
                             if tr < np.inf:
-                                stacks[j, sp] = links[ref, R_REF]
-                                stacks[j, sp + 1] = links[ref, R_CNT]
+                                stacks[j, sp] = links[uref, R_REF]
+                                stacks[j, sp + 1] = links[uref, R_CNT]
                                 sp += 2
-                            cnt = links[ref, L_CNT]
-                            ref = links[ref, L_REF]
+                            cnt = links[uref, L_CNT]
+                            ref = links[uref, L_REF]
                         moved = True
                     elif tr < np.inf:
-                        cnt = links[ref, R_CNT]
-                        ref = links[ref, R_REF]
+                        cnt = links[uref, R_CNT]
+                        ref = links[uref, R_REF]
                         moved = True
                 else:
                     kx = lk[j, 0]; ky = lk[j, 1]; kz = lk[j, 2]

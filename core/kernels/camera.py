@@ -8,7 +8,8 @@ projection tag, the lens radius (0: pinhole), the focus distance and the filter 
 Pixel filter: each sample's position in the pixel is drawn from the filter (separable:
 x and y independently), so every sample has weight 1 and the image is the filtered
 radiance (Cycles does the same with a tabulated inverse cdf). The filter's 1D
-distribution (core.sampling.distrib layout) is built once by :func:`filter_table`.
+distribution (core.sampling.distrib layout, with a guide table: sampling it costs a step
+or two, not a binary search over its cells) is built once by :func:`filter_table`.
 
 Thin lens (Cycles' model): the pinhole ray through the pixel fixes the point in focus
 at depth ``focus_distance``; the ray starts at a uniform point of the lens disc of
@@ -20,7 +21,7 @@ import numpy as np
 
 from .. import constants as C
 from ..jit import function, inline
-from ..sampling.distrib import build_distribution_1d, sample_distribution_1d
+from ..sampling.distrib import build_guided_1d, sample_1d_guided
 from ..sampling.warps import sample_disk_concentric
 
 CAM_R = 0  # 9 entries: camera-to-world rotation, row major
@@ -63,18 +64,19 @@ def filter_function(kind, width, x):
 
 
 def filter_table(kind, width):
-    """1D piecewise-constant distribution of the filter over [−width/2, width/2] (cell means)."""
+    """Guided 1D piecewise-constant distribution of the filter over [−width/2, width/2] (cell
+    means)."""
     n = FILTER_CELLS
     sub = 8
     x = (np.arange(n * sub) + 0.5) / (n * sub) - 0.5
     f = filter_function(kind, width, x * width).reshape(n, sub).mean(axis=1)
-    return build_distribution_1d(f)
+    return build_guided_1d(f)
 
 
 @inline
 def filter_offset(filt, u, width):
     """Offset (pixels) from the pixel centre drawn from the filter with the uniform u."""
-    x, _, _ = sample_distribution_1d(filt, u)
+    x, _, _ = sample_1d_guided(filt, u)
     return (x - 0.5) * width
 
 

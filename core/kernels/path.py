@@ -105,9 +105,11 @@ def rnd_f(sampler, key, pseed, index, dim, n):
 
 @inline
 def sample_visible(u):
+    """A wavelength drawn from p(λ) with the uniform u, and p(λ): with t = tanh(B (λ - λc)),
+    sech² = 1 - t², so the density needs no cosh."""
     t = VIS_TA + u * (VIS_TB - VIS_TA)
     lam = VIS_C + math.atanh(t) / VIS_B
-    return min(max(lam, LMIN), LMAX)
+    return min(max(lam, LMIN), LMAX), VIS_B * (1.0 - t * t) / (VIS_TB - VIS_TA)
 
 
 @inline
@@ -627,9 +629,8 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     up = u0 + i / NW
                     if up >= 1.0:
                         up -= 1.0
-                    lam[i] = sample_visible(up)
+                    lam[i], pdf_lam[i] = sample_visible(up)
                     lc[i], lf[i] = lam_cell(lam[i])
-                    pdf_lam[i] = visible_pdf(lam[i])
                     beta[i] = 1.0
                     rad[i] = 0.0
                 # camera ray: dimensions 1-2 the pixel filter, 3-4 the lens (drawn only for a

@@ -74,8 +74,7 @@ def sobol_bits(index, second):
     v = _ZERO
     d = _TOP
     while i != _ZERO:
-        if (i & _S1) != _ZERO:
-            v ^= d
+        v ^= d & (_ZERO - (i & _S1))  # d where the bit is set: no data-dependent branch
         i >>= _S1
         d ^= d >> _S1
     return v

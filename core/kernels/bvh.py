@@ -347,27 +347,27 @@ def build_bvh(v0, v1, v2, tris, tv0, te1, te2):
 
 
 @inline
-def _slab(ox, oy, oz, ix, iy, iz, nodes, rec, o, tmax):
-    """Entry distance of the ray into the box at ``nodes[rec, o:o + 6]`` within [0, tmax],
-    inf if it misses. ``rec`` is unsigned (``_u``), so the loads skip numba's negative-index
-    wraparound."""
-    t0 = (nodes[rec, o] - ox) * ix
-    t1 = (nodes[rec, o + 3] - ox) * ix
-    tn = min(t0, t1)
-    tf = max(t0, t1)
-    t0 = (nodes[rec, o + 1] - oy) * iy
-    t1 = (nodes[rec, o + 4] - oy) * iy
-    tn = max(tn, min(t0, t1))
-    tf = min(tf, max(t0, t1))
-    t0 = (nodes[rec, o + 2] - oz) * iz
-    t1 = (nodes[rec, o + 5] - oz) * iz
-    tn = max(tn, min(t0, t1))
-    tf = min(tf, max(t0, t1))
-    tn = max(tn, 0.0)
-    tf = min(tf, tmax)
+def _slab(ox, oy, oz, ix, iy, iz, nodes, rec, nx, ny, nz, fx, fy, fz, tmax):
+    """Entry distance of the ray into the box whose near planes are ``nodes[rec, nx]``,
+    ``[rec, ny]``, ``[rec, nz]`` and far planes ``[rec, fx]`` ... (``_planes``: chosen once
+    per ray by the direction's signs, so no per-axis min/max), within [0, tmax]; inf if
+    it misses. Indices are unsigned (``_u``): no negative-index wraparound."""
+    tn = max(max((nodes[rec, nx] - ox) * ix, (nodes[rec, ny] - oy) * iy), max((nodes[rec, nz] - oz) * iz, 0.0))
+    tf = min(min((nodes[rec, fx] - ox) * ix, (nodes[rec, fy] - oy) * iy), min((nodes[rec, fz] - oz) * iz, tmax))
     if tn <= tf:
         return tn
     return np.inf
+
+
+@inline
+def _planes(ix, iy, iz, o):
+    """Columns of the near and far planes of the box at column ``o`` of a record for a ray
+    with inverse direction (ix, iy, iz): the low plane is the near one along a positive
+    component (then (lo - o) / d <= (hi - o) / d), the high plane along a negative one."""
+    nx = o if ix >= 0.0 else o + 3
+    ny = o + 1 if iy >= 0.0 else o + 4
+    nz = o + 2 if iz >= 0.0 else o + 5
+    return _u(nx), _u(ny), _u(nz), _u(2 * o + 3 - nx), _u(2 * o + 5 - ny), _u(2 * o + 7 - nz)
 
 
 @inline
@@ -490,6 +490,8 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     ix = _inv(dx); iy = _inv(dy); iz = _inv(dz)
     kx, ky, kz, sx, sy, sz = ray_setup(dx, dy, dz)
     okx = _pick(ox, oy, oz, kx); oky = _pick(ox, oy, oz, ky); okz = _pick(ox, oy, oz, kz)
+    lnx, lny, lnz, lfx, lfy, lfz = _planes(ix, iy, iz, 0)
+    rnx, rny, rnz, rfx, rfy, rfz = _planes(ix, iy, iz, 6)
     best_t = tmax
     best_p = -1
     best_u = 0.0
@@ -500,8 +502,8 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     while True:
         if cnt == 0:
             uref = _u(ref)
-            tl = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, 0, best_t)
-            tr = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, 6, best_t)
+            tl = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, lnx, lny, lnz, lfx, lfy, lfz, best_t)
+            tr = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, rnx, rny, rnz, rfx, rfy, rfz, best_t)
             if tl < np.inf:
                 if tr < tl:
                     stack[sp] = links[uref, L_REF]
@@ -556,14 +558,16 @@ def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     ix = _inv(dx); iy = _inv(dy); iz = _inv(dz)
     kx, ky, kz, sx, sy, sz = ray_setup(dx, dy, dz)
     okx = _pick(ox, oy, oz, kx); oky = _pick(ox, oy, oz, ky); okz = _pick(ox, oy, oz, kz)
+    lnx, lny, lnz, lfx, lfy, lfz = _planes(ix, iy, iz, 0)
+    rnx, rny, rnz, rfx, rfy, rfz = _planes(ix, iy, iz, 6)
     sp = 0
     ref = 0
     cnt = 0
     while True:
         if cnt == 0:
             uref = _u(ref)
-            tl = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, 0, tmax)
-            tr = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, 6, tmax)
+            tl = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, lnx, lny, lnz, lfx, lfy, lfz, tmax)
+            tr = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, rnx, rny, rnz, rfx, rfy, rfz, tmax)
             if tl < np.inf:
                 if tr < tl:
                     stack[sp] = links[uref, L_REF]

@@ -41,6 +41,10 @@ STACK_SIZE = 3 * MAX_DEPTH  # int32 slots: up to 3 per pushed child, at most one
 TRAVERSAL_COST = 1.0  # relative to one triangle test
 EDGE_DTYPE = np.float64
 NODE_WIDTH = 16  # float32 slots per record: 64 bytes
+_U0 = np.uint64(0)  # unsigned stack offsets (see _u)
+_U1 = np.uint64(1)
+_U2 = np.uint64(2)
+_U3 = np.uint64(3)
 L_REF = 12
 L_CNT = 13
 R_REF = 14
@@ -496,7 +500,7 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     best_p = -1
     best_u = 0.0
     best_v = 0.0
-    sp = 0
+    sp = _U0
     ref = 0  # the child being entered: a record (cnt == 0) or a leaf's triangle range
     cnt = 0
     while True:
@@ -507,17 +511,17 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
             if tl < np.inf:
                 if tr < tl:
                     stack[sp] = links[uref, L_REF]
-                    stack[sp + 1] = links[uref, L_CNT]
-                    fstack[sp + 2] = _below(tl)
-                    sp += 3
+                    stack[sp + _U1] = links[uref, L_CNT]
+                    fstack[sp + _U2] = _below(tl)
+                    sp += _U3
                     cnt = links[uref, R_CNT]
                     ref = links[uref, R_REF]
                 else:
                     if tr < np.inf:
                         stack[sp] = links[uref, R_REF]
-                        stack[sp + 1] = links[uref, R_CNT]
-                        fstack[sp + 2] = _below(tr)
-                        sp += 3
+                        stack[sp + _U1] = links[uref, R_CNT]
+                        fstack[sp + _U2] = _below(tr)
+                        sp += _U3
                     cnt = links[uref, L_CNT]
                     ref = links[uref, L_REF]
                 continue
@@ -534,11 +538,11 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
                     best_u = u
                     best_v = v
         found = False
-        while sp > 0:
-            sp -= 3
-            if fstack[sp + 2] <= best_t:
+        while sp > _U0:
+            sp -= _U3
+            if fstack[sp + _U2] <= best_t:
                 ref = stack[sp]
-                cnt = stack[sp + 1]
+                cnt = stack[sp + _U1]
                 found = True
                 break
         if not found:
@@ -560,7 +564,7 @@ def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     okx = _pick(ox, oy, oz, kx); oky = _pick(ox, oy, oz, ky); okz = _pick(ox, oy, oz, kz)
     lnx, lny, lnz, lfx, lfy, lfz = _planes(ix, iy, iz, 0)
     rnx, rny, rnz, rfx, rfy, rfz = _planes(ix, iy, iz, 6)
-    sp = 0
+    sp = _U0
     ref = 0
     cnt = 0
     while True:
@@ -571,15 +575,15 @@ def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
             if tl < np.inf:
                 if tr < tl:
                     stack[sp] = links[uref, L_REF]
-                    stack[sp + 1] = links[uref, L_CNT]
-                    sp += 2
+                    stack[sp + _U1] = links[uref, L_CNT]
+                    sp += _U2
                     cnt = links[uref, R_CNT]
                     ref = links[uref, R_REF]
                 else:
                     if tr < np.inf:
                         stack[sp] = links[uref, R_REF]
-                        stack[sp + 1] = links[uref, R_CNT]
-                        sp += 2
+                        stack[sp + _U1] = links[uref, R_CNT]
+                        sp += _U2
                     cnt = links[uref, L_CNT]
                     ref = links[uref, L_REF]
                 continue
@@ -592,11 +596,11 @@ def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
                 t, u, v = intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, tris, k, tmin, tmax)
                 if t < np.inf:
                     return True
-        if sp == 0:
+        if sp == _U0:
             return False
-        sp -= 2
+        sp -= _U2
         ref = stack[sp]
-        cnt = stack[sp + 1]
+        cnt = stack[sp + _U1]
 
 
 @function

@@ -108,7 +108,8 @@ def sample_visible(u):
     """A wavelength drawn from p(λ) with the uniform u, and p(λ): with t = tanh(B (λ - λc)),
     sech² = 1 - t², so the density needs no cosh."""
     t = VIS_TA + u * (VIS_TB - VIS_TA)
-    lam = VIS_C + math.atanh(t) / VIS_B
+    # atanh(t) = ½ ln((1 + t) / (1 − t)): one log (|t| < 0.86 here, no cancellation)
+    lam = VIS_C + 0.5 * math.log((1.0 + t) / (1.0 - t)) / VIS_B
     return min(max(lam, LMIN), LMAX), VIS_B * (1.0 - t * t) / (VIS_TB - VIS_TA)
 
 

@@ -41,7 +41,7 @@ STACK_SIZE = 3 * MAX_DEPTH  # int32 slots: up to 3 per pushed child, at most one
 TRAVERSAL_COST = 1.0  # relative to one triangle test
 EDGE_DTYPE = np.float64
 NODE_WIDTH = 16  # float32 slots per record: 64 bytes
-_U0 = np.uint64(0)  # unsigned stack offsets (see _u)
+_U0 = np.uint64(0)  # unsigned stack offsets (see uidx)
 _U1 = np.uint64(1)
 _U2 = np.uint64(2)
 _U3 = np.uint64(3)
@@ -355,7 +355,7 @@ def _slab(ox, oy, oz, ix, iy, iz, nodes, rec, nx, ny, nz, fx, fy, fz, tmax):
     """Entry distance of the ray into the box whose near planes are ``nodes[rec, nx]``,
     ``[rec, ny]``, ``[rec, nz]`` and far planes ``[rec, fx]`` ... (``_planes``: chosen once
     per ray by the direction's signs, so no per-axis min/max), within [0, tmax]; inf if
-    it misses. Indices are unsigned (``_u``): no negative-index wraparound."""
+    it misses. Indices are unsigned (``uidx``): no negative-index wraparound."""
     tn = max(max((nodes[rec, nx] - ox) * ix, (nodes[rec, ny] - oy) * iy), max((nodes[rec, nz] - oz) * iz, 0.0))
     tf = min(min((nodes[rec, fx] - ox) * ix, (nodes[rec, fy] - oy) * iy), min((nodes[rec, fz] - oz) * iz, tmax))
     if tn <= tf:
@@ -371,11 +371,11 @@ def _planes(ix, iy, iz, o):
     nx = o if ix >= 0.0 else o + 3
     ny = o + 1 if iy >= 0.0 else o + 4
     nz = o + 2 if iz >= 0.0 else o + 5
-    return _u(nx), _u(ny), _u(nz), _u(2 * o + 3 - nx), _u(2 * o + 5 - ny), _u(2 * o + 7 - nz)
+    return uidx(nx), uidx(ny), uidx(nz), uidx(2 * o + 3 - nx), uidx(2 * o + 5 - ny), uidx(2 * o + 7 - nz)
 
 
 @inline
-def _u(i):
+def uidx(i):
     """An index as unsigned: numba then emits no negative-index wraparound for it (the
     traversal's indices are never negative)."""
     return np.uint64(i)
@@ -423,10 +423,10 @@ def intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, tris, p, tmin, tma
     function (negated) in both its triangles, so no ray slips between them. Returns
     (t, u, v) with u, v the weights of v1, v2; t = inf on a miss.
     """
-    q = _u(p)
-    ux = _u(kx); uy = _u(ky); uz = _u(kz)
-    c3 = _u(3)
-    c6 = _u(6)
+    q = uidx(p)
+    ux = uidx(kx); uy = uidx(ky); uz = uidx(kz)
+    c3 = uidx(3)
+    c6 = uidx(6)
     paz = np.float64(tris[q, uz])
     pbz = np.float64(tris[q, c3 + uz])
     pcz = np.float64(tris[q, c6 + uz])
@@ -505,7 +505,7 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     cnt = 0
     while True:
         if cnt == 0:
-            uref = _u(ref)
+            uref = uidx(ref)
             tl = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, lnx, lny, lnz, lfx, lfy, lfz, best_t)
             tr = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, rnx, rny, rnz, rfx, rfy, rfz, best_t)
             if tl < np.inf:
@@ -569,7 +569,7 @@ def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     cnt = 0
     while True:
         if cnt == 0:
-            uref = _u(ref)
+            uref = uidx(ref)
             tl = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, lnx, lny, lnz, lfx, lfy, lfz, tmax)
             tr = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, rnx, rny, rnz, rfx, rfy, rfz, tmax)
             if tl < np.inf:

@@ -50,6 +50,10 @@ STACK_SIZE = 3 * MAX_DEPTH  # int32 slots: up to 3 per pushed child, at most one
 TRAVERSAL_COST = 1.0  # relative to one triangle test
 EDGE_DTYPE = np.float64
 NODE_WIDTH = 16  # float32 slots per record: 64 bytes
+_U0 = np.uint64(0)  # unsigned stack offsets (see uidx)
+_U1 = np.uint64(1)
+_U2 = np.uint64(2)
+_U3 = np.uint64(3)
 L_REF = 12
 L_CNT = 13
 R_REF = 14
@@ -356,31 +360,31 @@ def build_bvh(v0, v1, v2, tris, tv0, te1, te2):
 
 
 @inline
-def _slab(ox, oy, oz, ix, iy, iz, nodes, rec, o, tmax):
-    """Entry distance of the ray into the box at ``nodes[rec, o:o + 6]`` within [0, tmax],
-    inf if it misses. ``rec`` is unsigned (``_u``), so the loads skip numba's negative-index
-    wraparound."""
-    t0 = (nodes[rec, o] - ox) * ix
-    t1 = (nodes[rec, o + 3] - ox) * ix
-    tn = min(t0, t1)
-    tf = max(t0, t1)
-    t0 = (nodes[rec, o + 1] - oy) * iy
-    t1 = (nodes[rec, o + 4] - oy) * iy
-    tn = max(tn, min(t0, t1))
-    tf = min(tf, max(t0, t1))
-    t0 = (nodes[rec, o + 2] - oz) * iz
-    t1 = (nodes[rec, o + 5] - oz) * iz
-    tn = max(tn, min(t0, t1))
-    tf = min(tf, max(t0, t1))
-    tn = max(tn, 0.0)
-    tf = min(tf, tmax)
+def _slab(ox, oy, oz, ix, iy, iz, nodes, rec, nx, ny, nz, fx, fy, fz, tmax):
+    """Entry distance of the ray into the box whose near planes are ``nodes[rec, nx]``,
+    ``[rec, ny]``, ``[rec, nz]`` and far planes ``[rec, fx]`` ... (``_planes``: chosen once
+    per ray by the direction's signs, so no per-axis min/max), within [0, tmax]; inf if
+    it misses. Indices are unsigned (``uidx``): no negative-index wraparound."""
+    tn = max(max((nodes[rec, nx] - ox) * ix, (nodes[rec, ny] - oy) * iy), max((nodes[rec, nz] - oz) * iz, 0.0))
+    tf = min(min((nodes[rec, fx] - ox) * ix, (nodes[rec, fy] - oy) * iy), min((nodes[rec, fz] - oz) * iz, tmax))
     if tn <= tf:
         return tn
     return np.inf
 
 
 @inline
-def _u(i):
+def _planes(ix, iy, iz, o):
+    """Columns of the near and far planes of the box at column ``o`` of a record for a ray
+    with inverse direction (ix, iy, iz): the low plane is the near one along a positive
+    component (then (lo - o) / d <= (hi - o) / d), the high plane along a negative one."""
+    nx = o if ix >= 0.0 else o + 3
+    ny = o + 1 if iy >= 0.0 else o + 4
+    nz = o + 2 if iz >= 0.0 else o + 5
+    return uidx(nx), uidx(ny), uidx(nz), uidx(2 * o + 3 - nx), uidx(2 * o + 5 - ny), uidx(2 * o + 7 - nz)
+
+
+@inline
+def uidx(i):
     """An index as unsigned: numba then emits no negative-index wraparound for it (the
     traversal's indices are never negative)."""
     return np.uint64(i)
@@ -428,10 +432,10 @@ def intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, tris, p, tmin, tma
     function (negated) in both its triangles, so no ray slips between them. Returns
     (t, u, v) with u, v the weights of v1, v2; t = inf on a miss.
     """
-    q = _u(p)
-    ux = _u(kx); uy = _u(ky); uz = _u(kz)
-    c3 = _u(3)
-    c6 = _u(6)
+    q = uidx(p)
+    ux = uidx(kx); uy = uidx(ky); uz = uidx(kz)
+    c3 = uidx(3)
+    c6 = uidx(6)
     paz = np.float64(tris[q, uz])
     pbz = np.float64(tris[q, c3 + uz])
     pcz = np.float64(tris[q, c6 + uz])
@@ -510,34 +514,36 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     ix = _inv(dx); iy = _inv(dy); iz = _inv(dz)
     kx, ky, kz, sx, sy, sz = ray_setup(dx, dy, dz)
     okx = _pick(ox, oy, oz, kx); oky = _pick(ox, oy, oz, ky); okz = _pick(ox, oy, oz, kz)
+    lnx, lny, lnz, lfx, lfy, lfz = _planes(ix, iy, iz, 0)
+    rnx, rny, rnz, rfx, rfy, rfz = _planes(ix, iy, iz, 6)
     best_t = tmax
     best_p = -1
     best_u = 0.0
     best_v = 0.0
-    sp = 0
+    sp = _U0
     ref = 0  # the child being entered: a record (cnt == 0) or a leaf's triangle range
     cnt = 0
     while True:
         if cnt == 0:
-            uref = _u(ref)
-            tl = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, 0, best_t)
-            tr = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, 6, best_t)
+            uref = uidx(ref)
+            tl = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, lnx, lny, lnz, lfx, lfy, lfz, best_t)
+            tr = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, rnx, rny, rnz, rfx, rfy, rfz, best_t)
             if tl < np.inf:
                 if tr < tl:
                     stack[sp] = links[uref, L_REF]
-                    stack[sp + 1] = links[uref, L_CNT]
-                    fstack[sp + 2] = _below(tl)
-                    _prefetch_child(nodes, tris, stack[sp], stack[sp + 1])
-                    sp += 3
+                    stack[sp + _U1] = links[uref, L_CNT]
+                    fstack[sp + _U2] = _below(tl)
+                    _prefetch_child(nodes, tris, stack[sp], stack[sp + _U1])
+                    sp += _U3
                     cnt = links[uref, R_CNT]
                     ref = links[uref, R_REF]
                 else:
                     if tr < np.inf:
                         stack[sp] = links[uref, R_REF]
-                        stack[sp + 1] = links[uref, R_CNT]
-                        fstack[sp + 2] = _below(tr)
-                        _prefetch_child(nodes, tris, stack[sp], stack[sp + 1])
-                        sp += 3
+                        stack[sp + _U1] = links[uref, R_CNT]
+                        fstack[sp + _U2] = _below(tr)
+                        _prefetch_child(nodes, tris, stack[sp], stack[sp + _U1])
+                        sp += _U3
                     cnt = links[uref, L_CNT]
                     ref = links[uref, L_REF]
                 continue
@@ -554,11 +560,11 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
                     best_u = u
                     best_v = v
         found = False
-        while sp > 0:
-            sp -= 3
-            if fstack[sp + 2] <= best_t:
+        while sp > _U0:
+            sp -= _U3
+            if fstack[sp + _U2] <= best_t:
                 ref = stack[sp]
-                cnt = stack[sp + 1]
+                cnt = stack[sp + _U1]
                 found = True
                 break
         if not found:
@@ -585,28 +591,30 @@ def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     ix = _inv(dx); iy = _inv(dy); iz = _inv(dz)
     kx, ky, kz, sx, sy, sz = ray_setup(dx, dy, dz)
     okx = _pick(ox, oy, oz, kx); oky = _pick(ox, oy, oz, ky); okz = _pick(ox, oy, oz, kz)
-    sp = 0
+    lnx, lny, lnz, lfx, lfy, lfz = _planes(ix, iy, iz, 0)
+    rnx, rny, rnz, rfx, rfy, rfz = _planes(ix, iy, iz, 6)
+    sp = _U0
     ref = 0
     cnt = 0
     while True:
         if cnt == 0:
-            uref = _u(ref)
-            tl = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, 0, tmax)
-            tr = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, 6, tmax)
+            uref = uidx(ref)
+            tl = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, lnx, lny, lnz, lfx, lfy, lfz, tmax)
+            tr = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, rnx, rny, rnz, rfx, rfy, rfz, tmax)
             if tl < np.inf:
                 if tl < tr < np.inf:  # the farther child first (see the docstring)
                     stack[sp] = links[uref, L_REF]
-                    stack[sp + 1] = links[uref, L_CNT]
-                    _prefetch_child(nodes, tris, stack[sp], stack[sp + 1])
-                    sp += 2
+                    stack[sp + _U1] = links[uref, L_CNT]
+                    _prefetch_child(nodes, tris, stack[sp], stack[sp + _U1])
+                    sp += _U2
                     cnt = links[uref, R_CNT]
                     ref = links[uref, R_REF]
                 else:
                     if tr < np.inf:
                         stack[sp] = links[uref, R_REF]
-                        stack[sp + 1] = links[uref, R_CNT]
-                        _prefetch_child(nodes, tris, stack[sp], stack[sp + 1])
-                        sp += 2
+                        stack[sp + _U1] = links[uref, R_CNT]
+                        _prefetch_child(nodes, tris, stack[sp], stack[sp + _U1])
+                        sp += _U2
                     cnt = links[uref, L_CNT]
                     ref = links[uref, L_REF]
                 continue
@@ -619,11 +627,11 @@ def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
                 t, u, v = intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, tris, k, tmin, tmax)
                 if t < np.inf:
                     return True
-        if sp == 0:
+        if sp == _U0:
             return False
-        sp -= 2
+        sp -= _U2
         ref = stack[sp]
-        cnt = stack[sp + 1]
+        cnt = stack[sp + _U1]
 
 
 @function
@@ -710,9 +718,11 @@ def trace_closest_batch(orig, dirs, tmax, nodes, tris):
                 ix = lf[j, 3]; iy = lf[j, 4]; iz = lf[j, 5]
                 moved = False
                 if cnt == 0:
-                    uref = _u(ref)
-                    tl = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, 0, best_t)
-                    tr = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, 6, best_t)
+                    uref = uidx(ref)
+                    lnx, lny, lnz, lfx, lfy, lfz = _planes(ix, iy, iz, 0)
+                    rnx, rny, rnz, rfx, rfy, rfz = _planes(ix, iy, iz, 6)
+                    tl = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, lnx, lny, lnz, lfx, lfy, lfz, best_t)
+                    tr = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, rnx, rny, rnz, rfx, rfy, rfz, best_t)
                     if tl < np.inf:
                         if tr < tl:
                             stacks[j, sp] = links[uref, L_REF]
@@ -815,11 +825,13 @@ def trace_occluded_batch(orig, dirs, tmax, nodes, tris):
                 moved = False
                 hit = False
                 if cnt == 0:
-                    uref = _u(ref)
+                    uref = uidx(ref)
                     ox = lf[j, 0]; oy = lf[j, 1]; oz = lf[j, 2]
                     ix = lf[j, 3]; iy = lf[j, 4]; iz = lf[j, 5]
-                    tl = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, 0, tm)
-                    tr = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, 6, tm)
+                    lnx, lny, lnz, lfx, lfy, lfz = _planes(ix, iy, iz, 0)
+                    rnx, rny, rnz, rfx, rfy, rfz = _planes(ix, iy, iz, 6)
+                    tl = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, lnx, lny, lnz, lfx, lfy, lfz, tm)
+                    tr = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, rnx, rny, rnz, rfx, rfy, rfz, tm)
                     if tl < np.inf:
                         if tl < tr < np.inf:  # the farther child first
                             stacks[j, sp] = links[uref, L_REF]

@@ -27,7 +27,7 @@ from ..bsdfs.params import ALPHA_MIN, BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE,
 from ..bsdfs.phong import lambert_sample_dir
 from . import media
 from . import textures as tex
-from .bvh import STACK_SIZE, trace_closest, triangle_normal
+from .bvh import STACK_SIZE, trace_closest, triangle_normal, uidx
 from .camera import CAM_LENS_R, camera_ray
 from .lights import env_lookup, env_sample, hit_light, sample_light, sun_hit
 from ..sampling.qmc import pixel_seed, qmc_sample
@@ -108,7 +108,8 @@ def sample_visible(u):
     """A wavelength drawn from p(λ) with the uniform u, and p(λ): with t = tanh(B (λ - λc)),
     sech² = 1 - t², so the density needs no cosh."""
     t = VIS_TA + u * (VIS_TB - VIS_TA)
-    lam = VIS_C + math.atanh(t) / VIS_B
+    # atanh(t) = ½ ln((1 + t) / (1 − t)): one log (|t| < 0.86 here, no cancellation)
+    lam = VIS_C + 0.5 * math.log((1.0 + t) / (1.0 - t)) / VIS_B
     return min(max(lam, LMIN), LMAX), VIS_B * (1.0 - t * t) / (VIS_TB - VIS_TA)
 
 
@@ -125,7 +126,8 @@ def lookup_cmf(cmf, k, lam):
     if i < 0 or i >= NL - 1:
         return 0.0
     f = x - i
-    return cmf[i, k] * (1.0 - f) + cmf[i + 1, k] * f
+    c = uidx(i)
+    return cmf[c, k] * (1.0 - f) + cmf[c + uidx(1), k] * f
 
 
 @inline
@@ -345,8 +347,11 @@ def lam_cell(lam):
 
 @inline
 def at(table, row, li, lf):
-    """Row ``row`` of a (rows, N_LAMBDA) table at the wavelength of cell ``li``, fraction ``lf``."""
-    return table[row, li] * (1.0 - lf) + table[row, li + 1] * lf
+    """Row ``row`` (≥ 0) of a (rows, N_LAMBDA) table at the wavelength of cell ``li``, fraction
+    ``lf`` (unsigned indices: no wraparound code)."""
+    r = uidx(row)
+    c = uidx(li)
+    return table[r, c] * (1.0 - lf) + table[r, c + uidx(1)] * lf
 
 
 @inline

@@ -648,7 +648,7 @@ def trace_occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     return occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack)
 
 
-LANES = 8  # rays a batch kernel's thread keeps in flight at once
+LANES = 12  # rays a batch kernel's thread keeps in flight at once
 CHUNK = 2048  # rays per parallel work item of the batch kernels
 
 

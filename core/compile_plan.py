@@ -41,4 +41,6 @@ PLAN = [
      '(int64, uint64, uint64, int64, int64, int64)'),
     ('kernels.path', 'sample_dimension',
      '(int64, int64, int64, uint64, int64)'),
+    ('kernels.path', 'sample_pair',
+     '(int64, int64, int64, uint64, int64)'),
 ]

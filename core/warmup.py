@@ -30,7 +30,7 @@ import sys
 # compiled by the second process: the BSDF dispatch (every model's eval and sample) and
 # the low-discrepancy sampler and the image textures, about as much work as the BVH builder and the rest of the
 # helpers, which this process compiles meanwhile
-HELPER_GROUP = frozenset({"bsdf_sample", "bsdf_eval", "sample_dimension", "rnd_f", "_textures"})
+HELPER_GROUP = frozenset({"bsdf_sample", "bsdf_eval", "sample_dimension", "sample_pair", "rnd_f", "_textures"})
 
 _PKG = __name__.rsplit(".core.", 1)[0]
 _ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))

@@ -136,3 +136,23 @@ def test_stratified_mean_is_unbiased_over_seeds():
              for sd in range(6)]
     se = np.std(means, ddof=1) / np.sqrt(len(means))
     assert abs(np.mean(means) - r) < 4 * np.hypot(se, np.sqrt(ref.develop().variance.sum()) / ref.sums[..., 0].size)
+
+
+def test_pair_draws_equal_two_single_draws():
+    """The path kernel's paired draw (light sample, BSDF sample) gives exactly the two values
+    of two single draws, for every sampler, aligned or not, across the stratified sampler's
+    last Sobol dimension and into its hashed ones."""
+    from spectral_gi.core.kernels import path as P
+    from spectral_gi.core.kernels.rng import path_key, sobol_pair, sobol_pair_both
+
+    for pair in range(3, 12):
+        for i in range(64):
+            assert sobol_pair_both(i, 12345, pair) == (sobol_pair(i, 0, 12345, pair), sobol_pair(i, 1, 12345, pair))
+    for sampler in (C.SAMPLER_INDEPENDENT, C.SAMPLER_HALTON, C.SAMPLER_HAMMERSLEY, C.SAMPLER_STRATIFIED):
+        for index in (0, 1, 5, 37):
+            key = np.uint64(path_key(3, 77, index))
+            for dim in range(5, 24):
+                got = P.rnd2(sampler, key, 991, np.int64(index), np.int64(dim), np.int64(64))
+                want = (P.rnd(sampler, key, 991, np.int64(index), np.int64(dim), np.int64(64)),
+                        P.rnd(sampler, key, 991, np.int64(index), np.int64(dim + 1), np.int64(64)))
+                assert got == want, (sampler, index, dim, got, want)

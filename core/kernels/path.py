@@ -34,7 +34,7 @@ from ..sampling.qmc import pixel_seed, qmc_sample
 from ..sampling.sphtri import SMALL_SOLID_ANGLE, sample_spherical_triangle, spherical_triangle_solid_angle
 from ..sampling.tags import RANDOMIZE_OWEN, SAMPLER_INDEPENDENT
 from .spectrum import lookup
-from .rng import path_key, shift_32, sobol_02, sobol_pair, uniform
+from .rng import path_key, shift_32, sobol_02, sobol_pair, sobol_pair_both, uniform
 
 NW = C.N_WAVELENGTHS
 LMIN = C.LAMBDA_MIN
@@ -101,6 +101,28 @@ def rnd_f(sampler, key, pseed, index, dim, n):
     so that only the hot surface draws are inlined into the path kernel (each inlined
     draw adds to its compile time)."""
     return rnd(sampler, key, pseed, np.int64(index), np.int64(dim), np.int64(n))
+
+
+@function
+def sample_pair(sampler, index, dim, pseed, n):
+    """Dimensions ``dim`` and ``dim + 1`` of sample ``index`` (the low-discrepancy samplers, as
+    ``sample_dimension``) in one call: for the stratified sampler's aligned pairs (even
+    ``dim`` ≥ 6, one scrambled (0, 2)-sequence per pair) the pair's hash and shuffled index
+    are computed once."""
+    if sampler == C.SAMPLER_STRATIFIED and dim >= 6 and (dim & 1) == 0:
+        return sobol_pair_both(index, pseed, dim >> 1)
+    return sample_dimension(sampler, index, dim, pseed, n), sample_dimension(sampler, index, dim + 1, pseed, n)
+
+
+@inline
+def rnd2(sampler, key, pseed, index, dim, n):
+    """``(rnd(..., dim, n), rnd(..., dim + 1, n))``, the same two values: the hot surface
+    pairs (light sample, BSDF sample) in one sampler call."""
+    if sampler == SAMPLER_INDEPENDENT or (sampler == C.SAMPLER_STRATIFIED and dim >= STRATIFIED_DIMS):
+        return uniform(key, dim), uniform(key, dim + 1)
+    if sampler == C.SAMPLER_STRATIFIED and dim + 1 >= STRATIFIED_DIMS:
+        return sample_dimension(sampler, np.int64(index), np.int64(dim), pseed, np.int64(n)), uniform(key, dim + 1)
+    return sample_pair(sampler, np.int64(index), np.int64(dim), pseed, np.int64(n))
 
 
 @inline
@@ -867,8 +889,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                     if do_nee and (flags_m & (BSDF_DIFFUSE | BSDF_GLOSSY)) != 0:
                         ue = rnd(sampler, key, pseed, s, dim, n_total)
                         ei = media.pick(emit_cdf, n_emit, ue)
-                        ua = rnd(sampler, key, pseed, s, dim + 1, n_total)
-                        ub = rnd(sampler, key, pseed, s, dim + 2, n_total)
+                        ua, ub = rnd2(sampler, key, pseed, s, dim + 1, n_total)
                         if emit_tri[ei] >= 0:  # emissive triangles inline: no function call
                             wx, wy, wz, dist, lpdf, fac, l_row, l_scale = _triangle_sample(
                                 emit_tri[ei], ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale,
@@ -912,8 +933,7 @@ def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, ca
                                         rad[i] += beta[i] * fv[i] * g * le[i]
                     dim += 3
                     # BSDF sampling
-                    u1 = rnd(sampler, key, pseed, s, dim, n_total)
-                    u2 = rnd(sampler, key, pseed, s, dim + 1, n_total)
+                    u1, u2 = rnd2(sampler, key, pseed, s, dim, n_total)
                     if model == C.MAT_LAMBERT:
                         wix, wiy, wiz, pdf, flags = _lambert_sample(pm, ra, woz, u1, u2, fv)
                     else:

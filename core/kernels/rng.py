@@ -151,6 +151,17 @@ def owen32(v, seed):
 
 
 @inline
+def sobol_pair_both(index, pseed, pair):
+    """Both components of ``sobol_pair`` at once, (comp 0, comp 1): the pair's hash and
+    shuffled index are computed once; the same two values as two ``sobol_pair`` calls."""
+    h = mix64(np.uint64(pseed) ^ (np.uint64(pair) * _GOLDEN + _M2))
+    j = rev32(_shuffle_rev(index, h))
+    u = float(rev32(_lk(j, h >> _S32))) * _INV32
+    v = float(owen32(sobol_bits(j, 1), (h >> _S32) ^ np.uint64(0x9E3779B9))) * _INV32
+    return u, v
+
+
+@inline
 def sobol_pair(index, comp, pseed, pair):
     """Component ``comp`` (0, 1) of sample ``index`` for dimension pair ``pair`` of the
     pixel with seed ``pseed``: a float in [0, 1). The value of

@@ -112,11 +112,8 @@ def _find_cell(dist, o, n, u):
 
 
 @inline
-def sample_1d_block(dist, o, u):
-    """Sample the 1D block at offset o: returns (x in [0, 1), pdf, cell)."""
-    n = int(dist[o])
-    u = min(max(u, 0.0), ONE_MINUS_EPS)
-    i = _find_cell(dist, o, n, u)
+def _in_cell(dist, o, n, i, u):
+    """(x, pdf, i): the position of u within cell i of the 1D block at offset o (n cells)."""
     c0 = o + 2 + n
     lo = dist[c0 + i]
     w = dist[c0 + i + 1] - lo
@@ -134,6 +131,14 @@ def sample_1d_block(dist, o, u):
 
 
 @inline
+def sample_1d_block(dist, o, u):
+    """Sample the 1D block at offset o: returns (x in [0, 1), pdf, cell)."""
+    n = int(dist[o])
+    u = min(max(u, 0.0), ONE_MINUS_EPS)
+    return _in_cell(dist, o, n, _find_cell(dist, o, n, u), u)
+
+
+@inline
 def sample_1d_guided(dist, u):
     """``sample_1d_block(dist, 0, u)`` for a guided array, the cell found from the guide."""
     n = int(dist[0])
@@ -144,19 +149,7 @@ def sample_1d_guided(dist, u):
     i = int(dist[g0 + 1 + min(int(u * m), m - 1)])
     while i < n - 1 and dist[c0 + i + 1] <= u:
         i += 1
-    lo = dist[c0 + i]
-    w = dist[c0 + i + 1] - lo
-    du = (u - lo) / w if w > 0.0 else 0.0
-    du = min(max(du, 0.0), 1.0)
-    x = (i + du) / n
-    if x >= 1.0:
-        x = ONE_MINUS_EPS
-    integral = dist[1]
-    if integral > 0.0:
-        pdf = dist[2 + i] / integral
-    else:
-        pdf = 1.0
-    return x, pdf, i
+    return _in_cell(dist, 0, n, i, u)
 
 
 @inline

@@ -37,7 +37,7 @@ import cornell_vs_cycles as cvc  # noqa: E402
 import peers  # noqa: E402
 
 REC709_Y = np.array([0.2126, 0.7152, 0.0722])
-SAMPLER = None  # --sampler: this renderer's sampler (None: the scene's, independent)
+SAMPLER = None  # --sampler: this renderer's sampler (None: the exported scene's, the add-on's default stratified)
 
 
 def _ours(scene_bpy, spp, bounces, threads, size, time_limit=0.0):

@@ -29,6 +29,11 @@ built first; then each of ``--reps`` rounds times every size in turn and the bes
 of each is kept, so load from other jobs strikes every size alike. Compile time is
 excluded (kernels are warmed on a small scene first). No thresholds: the figures are
 for reading.
+
+With ``--one-ray`` it also times the path kernel's own traversal, one ray at a time
+(``trace_closest`` / ``trace_occluded`` in a serial loop on one thread, over the first
+300,000 rays): the batch kernels keep 12 rays in flight per thread to overlap their
+memory waits, which a path tracer following one path cannot do.
 """
 import argparse
 import math
@@ -221,6 +226,56 @@ def build(size_m, n_rays):
                 closest_cpu=0.0, occluded_cpu=0.0)
 
 
+_ONE_RAY = {}
+
+
+def _one_ray_loops():
+    """The serial one-ray loops, compiled once under the project's jit policy."""
+    if not _ONE_RAY:
+        from spectral_gi.core.jit import kernel
+        from spectral_gi.core.kernels import bvh as K
+
+        @kernel
+        def closest_loop(o, d, nodes, tris):
+            stack = np.empty(K.STACK_SIZE, np.int32)
+            hits = 0
+            for i in range(o.shape[0]):
+                t = K.trace_closest(o[i, 0], o[i, 1], o[i, 2], d[i, 0], d[i, 1], d[i, 2], 0.0, np.inf,
+                                    nodes, tris, stack)[0]
+                if t < np.inf:
+                    hits += 1
+            return hits
+
+        @kernel
+        def occluded_loop(o, d, tmax, nodes, tris):
+            stack = np.empty(K.STACK_SIZE, np.int32)
+            hits = 0
+            for i in range(o.shape[0]):
+                if K.trace_occluded(o[i, 0], o[i, 1], o[i, 2], d[i, 0], d[i, 1], d[i, 2], 0.0, tmax[i],
+                                    nodes, tris, stack):
+                    hits += 1
+            return hits
+
+        _ONE_RAY["closest"] = closest_loop
+        _ONE_RAY["occluded"] = occluded_loop
+    return _ONE_RAY["closest"], _ONE_RAY["occluded"]
+
+
+def time_one_ray(r, n_max=300_000):
+    """One pass of the one-ray loops over size ``r``; keeps the best rates per CPU second."""
+    closest_loop, occluded_loop = _one_ray_loops()
+    bvh = r["bvh"]
+    o, d, _ = r["rays"]
+    so, sd, sdist = r["shadow"]
+    o, d, so, sd, sdist = o[:n_max], d[:n_max], so[:n_max], sd[:n_max], sdist[:n_max]
+    c0 = time.thread_time()
+    closest_loop(o, d, bvh.nodes, bvh.tris)
+    r["one_closest"] = max(r.get("one_closest", 0.0), o.shape[0] / (time.thread_time() - c0))
+    c0 = time.thread_time()
+    occluded_loop(so, sd, sdist, bvh.nodes, bvh.tris)
+    r["one_occluded"] = max(r.get("one_occluded", 0.0), so.shape[0] / (time.thread_time() - c0))
+
+
 def time_round(r):
     """One timed pass of each query over size ``r``; keeps the best rates seen."""
     from spectral_gi.core.kernels import bvh as K
@@ -249,16 +304,24 @@ def main():
     ap.add_argument("--rays", type=int, default=1_000_000)
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--reps", type=int, default=3, help="timing rounds (best kept)")
+    ap.add_argument("--one-ray", action="store_true",
+                    help="also time the path kernel's one-ray traversal (serial loop, one thread)")
     args = ap.parse_args()
     from spectral_gi.core.jit import set_threads
 
     threads = set_threads(args.threads)
     sizes = [float(s) for s in args.sizes.split(",") if s.strip()]
     rows = [build(s, args.rays) for s in sizes]
+    if args.one_ray:  # compile the one-ray loops first, so compile time is not counted
+        time_one_ray(rows[0], n_max=1000)
+        rows[0].pop("one_closest")
+        rows[0].pop("one_occluded")
     # every round times every size, so a burst of load from other jobs hits all sizes alike
     for _ in range(args.reps):
         for r in rows:
             time_round(r)
+            if args.one_ray:
+                time_one_ray(r)
     for r in rows:
         print(f"{r['n']:>10,d} tris: build {r['build']:6.2f} s ({r['build'] / r['n'] * 1e6:5.2f} s/M, "
               f"CPU {r['build_cpu']:.2f} s), "
@@ -281,6 +344,16 @@ def main():
               f"| {r['occluded'] / 1e6:.2f} | {r['closest_cpu'] / 1e6:.2f} | {r['occluded_cpu'] / 1e6:.2f} "
               f"| {r['closest_cpu'] / r0['closest_cpu']:.3f} | {r['occluded_cpu'] / r0['occluded_cpu']:.3f} "
               f"| {math.log2(r0['n']) / math.log2(r['n']):.3f} |")
+    if args.one_ray:
+        print("\none-ray traversal (the path kernel's trace_closest / trace_occluded, serial, 1 thread, "
+              "first 300,000 rays), per CPU second:")
+        print("| triangles | closest M/CPU-s | occlusion M/CPU-s | closest ratio | occlusion ratio "
+              "| log2(N0)/log2(N) |")
+        print("|---|---|---|---|---|---|")
+        for r in rows:
+            print(f"| {r['n']:,d} | {r['one_closest'] / 1e6:.2f} | {r['one_occluded'] / 1e6:.2f} "
+                  f"| {r['one_closest'] / r0['one_closest']:.3f} | {r['one_occluded'] / r0['one_occluded']:.3f} "
+                  f"| {math.log2(r0['n']) / math.log2(r['n']):.3f} |")
 
 
 if __name__ == "__main__":

@@ -422,6 +422,16 @@ def ray_setup(dx, dy, dz):
 
 
 @inline
+def ray_constants(ox, oy, oz, dx, dy, dz):
+    """What every traversal derives once per ray: the inverse direction (ix, iy, iz) for
+    the slab tests, and for the watertight triangle test the axes and shear of
+    ``ray_setup`` and the origin's coordinates on those axes (okx, oky, okz)."""
+    kx, ky, kz, sx, sy, sz = ray_setup(dx, dy, dz)
+    return (_inv(dx), _inv(dy), _inv(dz), kx, ky, kz, sx, sy, sz,
+            _pick(ox, oy, oz, kx), _pick(ox, oy, oz, ky), _pick(ox, oy, oz, kz))
+
+
+@inline
 def intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, tris, p, tmin, tmax):
     """Watertight ray/triangle test (Woop, Benthin, Wald, JCGT 2(1), 2013) in float64.
 
@@ -511,9 +521,7 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
         return np.inf, -1, 0.0, 0.0
     links = nodes.view(np.int32)
     fstack = stack.view(np.float32)
-    ix = _inv(dx); iy = _inv(dy); iz = _inv(dz)
-    kx, ky, kz, sx, sy, sz = ray_setup(dx, dy, dz)
-    okx = _pick(ox, oy, oz, kx); oky = _pick(ox, oy, oz, ky); okz = _pick(ox, oy, oz, kz)
+    ix, iy, iz, kx, ky, kz, sx, sy, sz, okx, oky, okz = ray_constants(ox, oy, oz, dx, dy, dz)
     lnx, lny, lnz, lfx, lfy, lfz = _planes(ix, iy, iz, 0)
     rnx, rny, rnz, rfx, rfy, rfz = _planes(ix, iy, iz, 6)
     best_t = tmax
@@ -588,9 +596,7 @@ def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     if tris.shape[0] == 0:
         return False
     links = nodes.view(np.int32)
-    ix = _inv(dx); iy = _inv(dy); iz = _inv(dz)
-    kx, ky, kz, sx, sy, sz = ray_setup(dx, dy, dz)
-    okx = _pick(ox, oy, oz, kx); oky = _pick(ox, oy, oz, ky); okz = _pick(ox, oy, oz, kz)
+    ix, iy, iz, kx, ky, kz, sx, sy, sz, okx, oky, okz = ray_constants(ox, oy, oz, dx, dy, dz)
     lnx, lny, lnz, lfx, lfy, lfz = _planes(ix, iy, iz, 0)
     rnx, rny, rnz, rfx, rfy, rfz = _planes(ix, iy, iz, 6)
     sp = _U0
@@ -657,12 +663,11 @@ def _start_lane(orig, dirs, i, lane, lf, lk):
     """Load ray ``i``'s constants into lane ``lane``: ``lf`` origin, inverse direction,
     shear, origin on the shear axes; ``lk`` the axes (see ``ray_setup``)."""
     ox = orig[i, 0]; oy = orig[i, 1]; oz = orig[i, 2]
-    dx = dirs[i, 0]; dy = dirs[i, 1]; dz = dirs[i, 2]
-    kx, ky, kz, sx, sy, sz = ray_setup(dx, dy, dz)
+    ix, iy, iz, kx, ky, kz, sx, sy, sz, okx, oky, okz = ray_constants(ox, oy, oz, dirs[i, 0], dirs[i, 1], dirs[i, 2])
     lf[lane, 0] = ox; lf[lane, 1] = oy; lf[lane, 2] = oz
-    lf[lane, 3] = _inv(dx); lf[lane, 4] = _inv(dy); lf[lane, 5] = _inv(dz)
+    lf[lane, 3] = ix; lf[lane, 4] = iy; lf[lane, 5] = iz
     lf[lane, 6] = sx; lf[lane, 7] = sy; lf[lane, 8] = sz
-    lf[lane, 9] = _pick(ox, oy, oz, kx); lf[lane, 10] = _pick(ox, oy, oz, ky); lf[lane, 11] = _pick(ox, oy, oz, kz)
+    lf[lane, 9] = okx; lf[lane, 10] = oky; lf[lane, 11] = okz
     lk[lane, 0] = kx; lk[lane, 1] = ky; lk[lane, 2] = kz
 
 

@@ -21,13 +21,21 @@ camera ray itself should run through clear air (a participating medium around th
 camera would attenuate the measurement).
 
 Statistics (:func:`illuminance_stats`): Em (mean), Emin, Emax and the uniformity
-U0 = Emin / Em over the sensor pixels. Each pixel weighs the same, so these are
-area-weighted means only when every pixel covers the same area of the sensor: an
-orthographic camera looking straight at a flat sensor (a top view of a work plane).
-Under perspective or on curved sensors they are means over the image, not over the
-surface. Emin and Emax are extremes of noisy pixel estimates, so noise widens them
-(and lowers U0): render enough samples that the pixel standard error (``std``) is small
-against the variation being measured.
+U0 = Emin / Em over the sensor pixels that are fully on a sensor (every sample's camera
+ray hit one: ``coverage`` = 1; ``min_coverage`` lowers the bar). Partly covered pixels
+(a sensor's outline, its contact lines with objects standing on it) keep their lux in the
+image, but they are left out of the statistics and counted in ``excluded``: only the
+fraction ``coverage`` of their samples measures, so their estimates are much noisier
+(a pixel with one or two sensor samples at a shadowed contact line often reads 0 lx),
+and they would set Emin by noise, like a calculation point placed on a wall's foot
+(lighting-design practice computes Emin on a grid of points on the surface). Each
+counted pixel weighs the same, so these are area-weighted means only when every pixel
+covers the same area of the sensor: an orthographic camera looking straight at a flat
+sensor (a top view of a work plane). Under perspective or on curved sensors they are
+means over the image, not over the surface. Emin and Emax are extremes of noisy pixel
+estimates, so noise widens them (and lowers U0): render enough samples that the pixel
+standard error (``std``; ``Emin_std`` is the Emin pixel's) is small against the
+variation being measured.
 """
 from __future__ import annotations
 
@@ -53,13 +61,21 @@ class IlluminanceImage:
         return np.isfinite(self.lux)
 
 
+# the default share of a pixel's samples that must hit a sensor for the pixel to enter the
+# statistics: all of them (partly covered pixels are measured too noisily, see the module text)
+FULL_COVERAGE = 1.0
+
+
 @dataclass
 class IlluminanceStats:
-    Em: float  # mean illuminance over the sensor pixels, lux
+    Em: float  # mean illuminance over the counted sensor pixels, lux
     Emin: float  # lux
     Emax: float  # lux
     U0: float  # uniformity Emin / Em (NaN when Em = 0)
-    pixels: int  # the number of sensor pixels
+    pixels: int  # the number of sensor pixels counted
+    excluded: int = 0  # sensor pixels left out: coverage below min_coverage
+    min_coverage: float = 0.0  # the coverage a pixel needed to be counted (0: every measured pixel)
+    Emin_std: float = float("nan")  # standard error of the Emin pixel's estimate, lux (NaN: not known)
 
     def as_dict(self):
         return dataclasses.asdict(self)
@@ -99,20 +115,36 @@ def illuminance_image(film) -> IlluminanceImage:
     return IlluminanceImage(lux=lux, coverage=coverage, std=std)
 
 
-def illuminance_stats(lux, mask=None) -> IlluminanceStats:
-    """Em, Emin, Emax and U0 = Emin / Em over the finite pixels of ``lux`` (and ``mask``)."""
+def illuminance_stats(lux, mask=None, coverage=None, min_coverage=FULL_COVERAGE, std=None) -> IlluminanceStats:
+    """Em, Emin, Emax and U0 = Emin / Em over the finite pixels of ``lux`` (and ``mask``).
+
+    With ``coverage`` (the image's per-pixel sensor coverage) only pixels whose coverage is
+    at least ``min_coverage`` (default: fully covered) count; the other finite pixels are
+    reported as ``excluded``. ``std`` (the per-pixel standard error) gives ``Emin_std``.
+    """
     lux = np.asarray(lux, np.float64)
     sel = np.isfinite(lux)
     if mask is not None:
         sel &= np.asarray(mask, bool)
+    measured = int(sel.sum())
+    if coverage is not None:
+        if not 0.0 <= min_coverage <= 1.0:
+            raise ValueError(f"min_coverage: expected a fraction in [0, 1], got {min_coverage}")
+        sel &= np.asarray(coverage, np.float64) >= min_coverage
+    else:
+        min_coverage = 0.0
     v = lux[sel]
+    excluded = measured - int(v.size)
     if v.size == 0:
         nan = float("nan")
-        return IlluminanceStats(nan, nan, nan, nan, 0)
+        return IlluminanceStats(nan, nan, nan, nan, 0, excluded, float(min_coverage))
     em = float(v.mean())
-    emin = float(v.min())
+    k = int(np.argmin(v))
+    emin = float(v[k])
+    emin_std = float(np.asarray(std, np.float64)[sel][k]) if std is not None else float("nan")
     return IlluminanceStats(Em=em, Emin=emin, Emax=float(v.max()), U0=emin / em if em > 0 else float("nan"),
-                            pixels=int(v.size))
+                            pixels=int(v.size), excluded=excluded, min_coverage=float(min_coverage),
+                            Emin_std=emin_std)
 
 
 def measuring_scene(scene, box_filter=True):
@@ -126,18 +158,22 @@ def measuring_scene(scene, box_filter=True):
 
 
 def render_illuminance(scene, *, threads=None, progress=None, should_cancel=None, on_pass=None, status=None,
-                       box_filter=True, resume=None) -> IlluminanceResult:
+                       box_filter=True, resume=None, min_coverage=FULL_COVERAGE) -> IlluminanceResult:
     """Render the illuminance (lux) on the sensor meshes of ``scene`` (see the module text).
 
     Takes the scene's camera, samples and stopping rules; with ``box_filter`` (default) the
-    pixel filter is a 1-pixel box. Raises SceneError if no mesh is a sensor. The other
-    arguments are those of :func:`core.renderer.render`.
+    pixel filter is a 1-pixel box. The statistics count the pixels whose sensor coverage is
+    at least ``min_coverage`` (default 1: fully covered). Raises SceneError if no mesh is a
+    sensor. The other arguments are those of :func:`core.renderer.render`.
     """
     from .renderer import render
 
     if not has_sensors(scene):
         raise SceneError("meshes: no mesh is an illuminance sensor (set Mesh.sensor = True)")
+    if not 0.0 <= min_coverage <= 1.0:  # before the render, not after it
+        raise ValueError(f"min_coverage: expected a fraction in [0, 1], got {min_coverage}")
     film, rstats = render(measuring_scene(scene, box_filter), threads=threads, progress=progress,
                           should_cancel=should_cancel, on_pass=on_pass, status=status, resume=resume, measure=True)
     img = illuminance_image(film)
-    return IlluminanceResult(image=img, stats=illuminance_stats(img.lux), film=film, render_stats=rstats)
+    stats = illuminance_stats(img.lux, coverage=img.coverage, min_coverage=min_coverage, std=img.std)
+    return IlluminanceResult(image=img, stats=stats, film=film, render_stats=rstats)

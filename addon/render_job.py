@@ -5,6 +5,7 @@ module's state (``STATE``, read by the panel and the status bar) and leaves copi
 the film for the main thread, which develops them into the result image at most every
 ``DISPLAY_INTERVAL`` seconds and once at the end.
 """
+import math
 import threading
 import time
 import traceback
@@ -26,7 +27,7 @@ class JobState:
         self.started = 0.0
         self.cancelling = False
         self.message = ""  # outcome of the last render
-        self.illuminance = None  # {"Em", "Emin", "Emax", "U0", "pixels"} of the last sensor render, lux
+        self.illuminance = None  # core IlluminanceStats.as_dict() of the last sensor render (Em, Emin, …, lux)
 
     def begin(self, total):
         self.running = True
@@ -286,11 +287,18 @@ def engine_threads(scene):
 
 
 def sensor_report(stats):
-    """One line of the sensor statistics (lux)."""
+    """One line of the sensor statistics (lux): over the pixels fully on a sensor, the partly
+    covered ones (outlines, contact lines) counted as excluded."""
+    excluded = int(stats.get("excluded", 0))
     if not stats.get("pixels"):
+        if excluded:
+            return f"Sensors: no pixel fully on a sensor ({excluded} partly covered px)"
         return "Sensors: no sensor surface in view"
-    return (f"Sensors: Em {stats['Em']:.4g} lx, Emin {stats['Emin']:.4g} lx, Emax {stats['Emax']:.4g} lx, "
-            f"U0 {stats['U0']:.3f} ({stats['pixels']} px)")
+    emin_std = stats.get("Emin_std", float("nan"))
+    pm = f" ± {emin_std:.2g}" if math.isfinite(emin_std) else ""
+    text = (f"Sensors: Em {stats['Em']:.4g} lx, Emin {stats['Emin']:.4g}{pm} lx, Emax {stats['Emax']:.4g} lx, "
+            f"U0 {stats['U0']:.3f} ({stats['pixels']} px")
+    return text + (f", {excluded} partly covered px excluded)" if excluded else ")")
 
 
 def _render_sensors(engine, core_scene, layer, threads):

@@ -4,6 +4,8 @@
 with any engine selected); the settings panels follow Blender's COMPAT_ENGINES pattern
 and appear when the render engine is Spectral GI.
 """
+import math
+
 import bpy
 
 from .. import render_job
@@ -157,12 +159,19 @@ class SPECTRALGI_PT_sensors(SpectralGIEnginePanel, bpy.types.Panel):
         if stats:
             box = layout.box()
             box.label(text="Last render (pixel statistics)", icon="GRAPH")
+            excluded = int(stats.get("excluded", 0))
             if stats.get("pixels"):
                 box.label(text=f"Em (mean): {stats['Em']:.4g} lx")
                 box.label(text=f"Emin: {stats['Emin']:.4g} lx    Emax: {stats['Emax']:.4g} lx")
                 box.label(text=f"U0 = Emin / Em: {stats['U0']:.3f}    ({stats['pixels']} px)")
+                if math.isfinite(stats.get("Emin_std", float("nan"))):
+                    box.label(text=f"Emin pixel's standard error: {stats['Emin_std']:.2g} lx")
+            elif excluded:
+                box.label(text="No pixel was fully on a sensor")
             else:
                 box.label(text="No sensor surface was in view")
+            if excluded:
+                box.label(text=f"{excluded} partly covered px (outlines, contact lines) excluded")
             box.label(text="Area-weighted only for an orthographic top view", icon="INFO")
 
 

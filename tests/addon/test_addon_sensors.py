@@ -73,6 +73,7 @@ def test_sensor_plane_gives_the_analytic_illuminance(ext, bpy, tmp_path):
     # the statistics reach the panel's state and the status line
     stats = ext.render_job.STATE.illuminance
     assert stats["pixels"] == 12 * 12
+    assert stats["excluded"] == 0 and stats["min_coverage"] == 1.0  # the plane's outline is on pixel edges
     assert stats["Emax"] == pytest.approx(lux.max(), rel=1e-5)
     assert stats["U0"] == pytest.approx(stats["Emin"] / stats["Em"])
     assert "Em" in ext.render_job.STATE.message
@@ -84,6 +85,19 @@ def test_sensor_plane_gives_the_analytic_illuminance(ext, bpy, tmp_path):
     panel.draw(mock.Mock(layout=layout), bpy.context)
     labels = " ".join(str(c) for c in layout.mock_calls)
     assert "Em (mean)" in labels and "U0" in labels
+
+
+def test_sensor_report_counts_partly_covered_pixels(ext):
+    report = ext.render_job.sensor_report
+    st = {"Em": 450.0, "Emin": 28.5, "Emax": 950.0, "U0": 28.5 / 450.0, "pixels": 700, "excluded": 250,
+          "min_coverage": 1.0, "Emin_std": 3.2}
+    line = report(st)
+    assert "Emin 28.5 ± 3.2 lx" in line and "U0 0.063" in line and "(700 px, 250 partly covered px excluded)" in line
+    assert report(dict(st, excluded=0, Emin_std=float("nan"))).endswith("U0 0.063 (700 px)")
+    nan = float("nan")
+    assert "no pixel fully on a sensor (12 partly" in report(dict(st, Em=nan, Emin=nan, Emax=nan, U0=nan, pixels=0,
+                                                                    excluded=12))
+    assert report({"pixels": 0}) == "Sensors: no sensor surface in view"
 
 
 def test_no_illuminance_pass_without_sensors_option(ext, bpy, tmp_path):

@@ -185,7 +185,7 @@ def tree_stats(bvh):
     for side in (0, 1):  # every internal child, i.e. every record but the root's
         sel = (lk[:, 13 + 2 * side] == 0) & (lk[:, 12 + 2 * side] >= 0)
         inner += area(bvh.nodes[sel, 6 * side:6 * side + 6]).sum()
-    _, counts, boxes = bvh.leaves()
+    _, counts, _, boxes = bvh.leaves()
     cost = (root + inner + (area(boxes) * counts).sum()) / root
     return tree_depth(bvh), counts.mean(), cost
 

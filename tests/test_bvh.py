@@ -102,7 +102,7 @@ def test_sah_tree_is_shallow_and_compact():
     v0, v1, v2 = _soup(rng, 20000, size=0.01)
     bvh = accel.build(v0, v1, v2)
     assert bvh.n_nodes < 2 * 20000
-    first, count, _ = bvh.leaves()
+    first, count, _, _ = bvh.leaves()
     assert count.max() <= 16
     # every primitive appears exactly once in the leaves
     assert count.sum() == 20000
@@ -114,19 +114,29 @@ def test_packed_records_are_consistent(n_tri):
     """The packed layout: 64-byte aligned records; leaf ranges tile [0, T) exactly; every
     leaf box holds its triangles' corners and every internal child's box holds both boxes
     of its record; a single-leaf tree has an absent right child whose box no ray enters;
-    ``tris`` rows are the float32 corners of ``prims`` and the shading edges their exact
-    differences."""
+    each leaf owns ceil(count / 4) consecutive blocks, in leaf order, whose lanes hold its
+    triangles in order and then degenerate padding lanes of index -1; the blocks' corners
+    are the float32 corners of ``prims`` and the shading edges their exact differences."""
     rng = np.random.default_rng(12)
     v0, v1, v2 = _soup(rng, n_tri, size=0.05)
     bvh = accel.build(v0, v1, v2)
     nodes, lk = bvh.nodes, bvh.links
     assert nodes.dtype == np.float32 and nodes.shape[1] == 16 and nodes.ctypes.data % 64 == 0
-    assert bvh.tris.dtype == np.float32 and bvh.tris.shape == (n_tri, 9)
-    first, count, boxes = bvh.leaves()
+    first, count, block, boxes = bvh.leaves()
+    n_blk = (count + 3) // 4
+    assert bvh.tris.dtype == np.float32 and bvh.tris.shape == (n_blk.sum(), 40)
     order = np.argsort(first)
     assert first[order][0] == 0 and np.array_equal(first[order][1:], (first + count)[order][:-1])
     assert (first + count).max() == n_tri
-    corners = bvh.tris.reshape(-1, 3, 3)
+    # blocks in leaf order, each leaf's consecutive, lanes in leaf order then padding
+    assert block[order][0] == 0 and np.array_equal(block[order][1:], (block + n_blk)[order][:-1])
+    ids = bvh.tris.view(np.int32)[:, 36:40].reshape(-1)
+    for f, c, b in zip(first, count, block):
+        lanes = ids[4 * b:4 * (b + (c + 3) // 4)]
+        assert np.array_equal(lanes[:c], np.arange(f, f + c)) and np.all(lanes[c:] == -1)
+    pad = bvh.tris[:, :36].reshape(-1, 9, 4).transpose(0, 2, 1).reshape(-1, 3, 3)[ids < 0]
+    assert np.all(pad == pad[:, :1])  # three equal corners: determinant 0, never hit
+    corners = bvh.corners().reshape(-1, 3, 3)
     for f, c, box in zip(first, count, boxes):
         pts = corners[f:f + c].reshape(-1, 3)
         assert np.all(box[:3] <= pts.min(0)) and np.all(pts.max(0) <= box[3:])
@@ -145,11 +155,12 @@ def test_packed_records_are_consistent(n_tri):
         assert bvh.n_records == 1 and lk[0, 12] == 0 and lk[0, 13] == n_tri and lk[0, 14] == -1
         assert np.all(nodes[0, 6:12] == np.inf) and accel.tree_depth(bvh) == 1
     p = bvh.prims
+    tri = bvh.corners()
     for k, v in enumerate((v0, v1, v2)):
-        assert np.array_equal(bvh.tris[:, 3 * k:3 * k + 3], np.asarray(v, np.float32)[p])
-    assert np.array_equal(bvh.v0, bvh.tris[:, :3])
-    assert np.array_equal(bvh.e1, bvh.tris[:, 3:6].astype(np.float64) - bvh.tris[:, :3])
-    assert np.array_equal(bvh.e2, bvh.tris[:, 6:9].astype(np.float64) - bvh.tris[:, :3])
+        assert np.array_equal(tri[:, 3 * k:3 * k + 3], np.asarray(v, np.float32)[p])
+    assert np.array_equal(bvh.v0, tri[:, :3])
+    assert np.array_equal(bvh.e1, tri[:, 3:6].astype(np.float64) - tri[:, :3])
+    assert np.array_equal(bvh.e2, tri[:, 6:9].astype(np.float64) - tri[:, :3])
 
 
 def _icosphere(level):
@@ -221,8 +232,9 @@ def test_edges_are_exact_and_float32_input_builds_the_same_tree():
     v0, v1, v2 = _soup(rng, 3000)
     b64 = accel.build(v0, v1, v2)
     b32 = accel.build(*(np.asarray(v, np.float32) for v in (v0, v1, v2)))
-    for name in ("nodes", "prims", "tris", "v0", "e1", "e2"):
-        assert np.array_equal(getattr(b64, name), getattr(b32, name)), name
+    for name in ("nodes", "prims", "tris", "v0", "e1", "e2"):  # bit for bit (int32 slots are NaN as float32)
+        x, y = getattr(b64, name), getattr(b32, name)
+        assert x.shape == y.shape and x.tobytes() == y.tobytes(), name
     p = b64.prims
     for e, v in ((b64.e1, v1), (b64.e2, v2)):
         assert e.dtype == np.float64
@@ -232,7 +244,7 @@ def test_edges_are_exact_and_float32_input_builds_the_same_tree():
         b1 = accel.build(v0, v1, v2)
     finally:
         set_threads(None)
-    assert all(np.array_equal(getattr(b1, n), getattr(b64, n)) for n in ("nodes", "prims", "tris"))
+    assert all(getattr(b1, n).tobytes() == getattr(b64, n).tobytes() for n in ("nodes", "prims", "tris"))
 
 
 def test_depth_is_bounded_for_pathological_input():

@@ -7,17 +7,23 @@ root's; its last four slots are int32 bit patterns (read through ``nodes.view(np
 * ``[0:6]``  left child's box (min xyz, max xyz), float32 rounded outwards
 * ``[6:12]`` right child's box
 * ``[L_REF]``, ``[L_CNT]`` (12, 13) the left child: ``cnt == 0`` → ``ref`` is its record;
-  ``cnt > 0`` → a leaf of ``cnt`` triangles from ``ref`` in leaf order
+  ``cnt > 0`` → a leaf of ``cnt`` triangles whose first block is ``ref`` (below)
 * ``[R_REF]``, ``[R_CNT]`` (14, 15) the right child, the same way
 
 A tree that is a single leaf gets one record whose right child is absent (ref -1, count
 0, a box at +inf on every axis, which ``_slab`` never enters). ``accel.build`` gives the
 array 64-byte alignment so a record never straddles two cache lines.
 
-Triangles for traversal are ``tris`` float32 (T, 9), leaf order, one row per triangle:
-its float32-rounded corners v0, v1, v2 (36 bytes, so a leaf's triangles are one
-contiguous run). The watertight test reads the corners themselves, so neighbouring
-triangles see the very same corner. Shading keeps ``v0`` (float32 (T, 3)) and the exact
+Triangles for traversal are ``tris`` float32 (B, 40), in blocks of four (``tri4.py``): a
+leaf of ``cnt`` triangles owns ceil(cnt / 4) consecutive blocks, and its reference in the
+record above is its first block. A block row holds the float32-rounded corners of its
+four lanes coordinate by coordinate (column ``4 * (3 * corner + axis) + lane``: v0 x of
+the four lanes, then v0 y, ...), then four int32 bit patterns (columns 36-39, read through
+``tris.view(np.int32)``): each lane's triangle index in leaf order, -1 for a padding lane
+(three equal corners, never hit). A leaf's triangles fill its lanes in leaf order. The
+traversal tests the four lanes of a block at once (``tri4.hit4``, 4-wide float64) and
+the few lanes that pass with the scalar watertight test, which reads the corners
+themselves, so neighbouring triangles see the very same corner. Shading keeps ``v0`` (float32 (T, 3)) and the exact
 edges ``e1 = v1 - v0``, ``e2 = v2 - v0`` (float64 (T, 3), differences of the float32
 corners, exact unless a corner's coordinates differ by more than 2^29 in magnitude),
 also in leaf order.
@@ -39,7 +45,8 @@ import numpy as np
 from numba import prange
 
 from ..jit import function, inline, kernel
-from .prefetch import prefetch
+from .prefetch import prefetch, prefetch_lines
+from .tri4 import BLOCK, BLOCK_COLS, PRIM_COL, hit4
 
 N_BINS = 16
 MAX_LEAF = 8  # ranges this small always become leaves (fewer nodes, same ray speed as 4)
@@ -124,12 +131,14 @@ def _set_child_box(nodes, rec, side, l0, l1, l2, h0, h1, h2):
 def build_bvh(v0, v1, v2, tris, tv0, te1, te2):
     """Binned-SAH build over corners (T, 3) (float32 or float64; rounded to float32).
 
-    Fills the caller's leaf-order triangle arrays: ``tris`` float32 (T, 9) the corners for
-    traversal, ``tv0`` float32 (T, 3), ``te1``, ``te2`` float64 (T, 3) the shading arrays
-    (so the caller chooses their memory, e.g. huge pages). Returns (nodes, prims, bad):
-    ``nodes`` the packed records (module docstring; a view of a larger, mostly untouched
-    buffer: copy it), ``prims`` maps leaf order to input order, ``bad`` the index of the
-    first triangle with a non-finite coordinate, or -1 (the tree is then not valid).
+    Fills the caller's arrays (so the caller chooses their memory, e.g. huge pages):
+    ``tris`` float32 (T, BLOCK_COLS) the leaf blocks for traversal (a leaf of n
+    triangles takes ceil(n / 4) <= n blocks, so T rows always suffice; the first
+    ``n_blk`` are used), ``tv0`` float32 (T, 3), ``te1``, ``te2`` float64 (T, 3) the
+    leaf-order shading arrays. Returns (nodes, prims, bad, n_blk): ``nodes`` the packed
+    records (module docstring; a view of a larger, mostly untouched buffer: copy it),
+    ``prims`` maps leaf order to input order, ``bad`` the index of the first triangle with
+    a non-finite coordinate, or -1 (the tree is then not valid), ``n_blk`` the blocks used.
     """
     n_tri = v0.shape[0]
     max_rec = max(1, n_tri - 1)  # inner nodes of a tree whose leaves are never empty
@@ -139,6 +148,11 @@ def build_bvh(v0, v1, v2, tris, tv0, te1, te2):
     prims = np.empty(n_tri, np.int32)
     bad = -1
     n_rec = 0
+    n_blk = 0
+    tri_ids = tris.view(np.int32)
+    leaf_s = np.empty(n_tri, np.int64)  # each leaf's first triangle (leaf order) and count,
+    leaf_n = np.empty(n_tri, np.int64)  # in the order the leaves are made (= leaf order)
+    n_leaf = 0
     if n_tri == 0:
         for q in range(12):
             nodes[0, q] = np.inf
@@ -157,7 +171,7 @@ def build_bvh(v0, v1, v2, tris, tv0, te1, te2):
                     bad = i
             prims[i] = i
         if bad >= 0:
-            return nodes[:1], prims, bad
+            return nodes[:1], prims, bad, 0
 
         b_cnt = np.zeros((3, N_BINS), np.int64)
         b_lo = np.empty((3, N_BINS, 3), np.float32)
@@ -262,16 +276,21 @@ def build_bvh(v0, v1, v2, tris, tv0, te1, te2):
                     is_leaf = True
 
             if is_leaf:
+                blk = n_blk
+                n_blk += n_blocks(n)
+                leaf_s[n_leaf] = s
+                leaf_n[n_leaf] = n
+                n_leaf += 1
                 if slot < 0:
                     # the whole tree is one leaf: record 0 holds it and a box no ray meets
                     for q in range(6):
                         nodes[0, q] = st_c[sp, 6 + q]
                     for q in range(6, 12):
                         nodes[0, q] = np.inf  # not rounded: nextafter(inf, -inf) is finite
-                    links[0, L_REF] = s; links[0, L_CNT] = n; links[0, R_REF] = -1; links[0, R_CNT] = 0
+                    links[0, L_REF] = blk; links[0, L_CNT] = n; links[0, R_REF] = -1; links[0, R_CNT] = 0
                     n_rec = 1
                 else:
-                    links[slot >> 1, L_REF + 2 * (slot & 1)] = s
+                    links[slot >> 1, L_REF + 2 * (slot & 1)] = blk
                     links[slot >> 1, L_CNT + 2 * (slot & 1)] = n
                 continue
 
@@ -346,17 +365,37 @@ def build_bvh(v0, v1, v2, tris, tv0, te1, te2):
                 st_c[sp, 6 + q] = nodes[rec, q]
             sp += 1
 
-    # triangles in leaf order (lo and hi are no longer needed): the corners for traversal,
-    # the first corner and the exact edges for shading
+    # triangles in leaf order (lo and hi are no longer needed): the first corner and the
+    # exact edges for shading
     for k in range(n_tri):
         p = prims[k]
         for q in range(3):
             a32 = np.float32(v0[p, q]); b32 = np.float32(v1[p, q]); c32 = np.float32(v2[p, q])
-            tris[k, q] = a32; tris[k, 3 + q] = b32; tris[k, 6 + q] = c32
             tv0[k, q] = a32
             te1[k, q] = np.float64(b32) - np.float64(a32)
             te2[k, q] = np.float64(c32) - np.float64(a32)
-    return nodes[:n_rec], prims, bad
+    # the corners for traversal: each leaf's blocks, lane by lane; padding lanes are a
+    # triangle with three equal corners (determinant 0: never hit) and index -1
+    b = 0
+    for f in range(n_leaf):
+        s = leaf_s[f]
+        n = leaf_n[f]
+        for j in range(n_blocks(n) * BLOCK):
+            ln = j % BLOCK
+            if j < n:
+                p = prims[s + j]
+                tri_ids[b, PRIM_COL + ln] = s + j
+                for q in range(3):
+                    tris[b, q * BLOCK + ln] = np.float32(v0[p, q])
+                    tris[b, (3 + q) * BLOCK + ln] = np.float32(v1[p, q])
+                    tris[b, (6 + q) * BLOCK + ln] = np.float32(v2[p, q])
+            else:
+                tri_ids[b, PRIM_COL + ln] = -1
+                for q in range(9):
+                    tris[b, q * BLOCK + ln] = 0.0
+            if ln == BLOCK - 1:
+                b += 1
+    return nodes[:n_rec], prims, bad, n_blk
 
 
 @inline
@@ -432,32 +471,34 @@ def ray_constants(ox, oy, oz, dx, dy, dz):
 
 
 @inline
-def intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, tris, p, tmin, tmax):
+def intersect_lane(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, blk, lane, tmin, tmax):
     """Watertight ray/triangle test (Woop, Benthin, Wald, JCGT 2(1), 2013) in float64.
 
-    ``okx, oky, okz`` are the ray origin's coordinates on the axes of ``ray_setup``;
-    ``tris[p]`` holds the float32 corners v0, v1, v2 (9 values). The corners, exact in
-    float64, are moved to the ray origin and sheared so the ray runs along +z; the signs
-    of the three edge functions decide the hit, and a shared edge gets the same edge
-    function (negated) in both its triangles, so no ray slips between them. Returns
-    (t, u, v) with u, v the weights of v1, v2; t = inf on a miss.
+    ``okx, oky, okz`` are the ray origin's coordinates on the axes of ``ray_setup``
+    (``ukx, uky, ukz``, unsigned); the triangle is lane ``lane`` of block ``blk`` of
+    ``tris`` (float32 corners, see the module docstring). The corners, exact in float64,
+    are moved to the ray origin and sheared so the ray runs along +z; the signs of the
+    three edge functions decide the hit, and a shared edge gets the same edge function
+    (negated) in both its triangles, so no ray slips between them. Returns (t, u, v)
+    with u, v the weights of v1, v2; t = inf on a miss. ``tri4.hit4`` computes the same
+    edge functions for the four lanes of a block at once, so the traversal calls this
+    only for the lanes it reports.
     """
-    q = uidx(p)
-    ux = uidx(kx); uy = uidx(ky); uz = uidx(kz)
-    c3 = uidx(3)
-    c6 = uidx(6)
-    paz = np.float64(tris[q, uz])
-    pbz = np.float64(tris[q, c3 + uz])
-    pcz = np.float64(tris[q, c6 + uz])
-    az = paz - okz
-    ax = (np.float64(tris[q, ux]) - okx) - sx * az
-    ay = (np.float64(tris[q, uy]) - oky) - sy * az
-    bz = pbz - okz
-    bx = (np.float64(tris[q, c3 + ux]) - okx) - sx * bz
-    by = (np.float64(tris[q, c3 + uy]) - oky) - sy * bz
-    cz = pcz - okz
-    cx = (np.float64(tris[q, c6 + ux]) - okx) - sx * cz
-    cy = (np.float64(tris[q, c6 + uy]) - oky) - sy * cz
+    q = uidx(blk)
+    ln = uidx(lane)
+    c4 = uidx(BLOCK)
+    ox_ = ukx * c4 + ln; oy_ = uky * c4 + ln; oz_ = ukz * c4 + ln
+    c12 = uidx(3 * BLOCK)
+    c24 = uidx(6 * BLOCK)
+    az = np.float64(tris[q, oz_]) - okz
+    ax = (np.float64(tris[q, ox_]) - okx) - sx * az
+    ay = (np.float64(tris[q, oy_]) - oky) - sy * az
+    bz = np.float64(tris[q, c12 + oz_]) - okz
+    bx = (np.float64(tris[q, c12 + ox_]) - okx) - sx * bz
+    by = (np.float64(tris[q, c12 + oy_]) - oky) - sy * bz
+    cz = np.float64(tris[q, c24 + oz_]) - okz
+    cx = (np.float64(tris[q, c24 + ox_]) - okx) - sx * cz
+    cy = (np.float64(tris[q, c24 + oy_]) - oky) - sy * cz
     u = cx * by - cy * bx
     v = ax * cy - ay * cx
     w = bx * ay - by * ax
@@ -471,6 +512,59 @@ def intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, tris, p, tmin, tma
     if not (t > tmin and t < tmax):
         return np.inf, 0.0, 0.0
     return t, v / det, w / det
+
+
+@inline
+def _lowest(m):
+    """Index of the lowest set bit of a 4-bit lane mask (m != 0)."""
+    if m & 1:
+        return 0
+    if m & 2:
+        return 1
+    if m & 4:
+        return 2
+    return 3
+
+
+@inline
+def n_blocks(cnt):
+    """Blocks of a leaf of ``cnt`` triangles (BLOCK = 4)."""
+    return (cnt + 3) >> 2
+
+
+@inline
+def leaf_closest(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, tri_ids, ref, cnt, tmin, best_t, best_p, best_u, best_v):
+    """The closest hit so far (t, prim, u, v) after testing the leaf whose blocks start at
+    ``ref`` (``cnt`` triangles): the blocks' masks from ``hit4``, then the scalar test of
+    the lanes set, in lane order (so ties go to the first triangle, as one by one)."""
+    for b in range(ref, ref + n_blocks(cnt)):
+        ub = uidx(b)
+        m = hit4(tris, ub, ukx, uky, ukz, okx, oky, okz, sx, sy)
+        while m != 0:
+            ln = _lowest(m)
+            m &= m - 1
+            t, u, v = intersect_lane(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, ub, ln, tmin, best_t)
+            if t < best_t:
+                best_t = t
+                best_p = tri_ids[ub, uidx(PRIM_COL + ln)]
+                best_u = u
+                best_v = v
+    return best_t, best_p, best_u, best_v
+
+
+@inline
+def leaf_any(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, ref, cnt, tmin, tmax):
+    """True if a triangle of the leaf at blocks ``ref`` (``cnt`` triangles) is hit in (tmin, tmax)."""
+    for b in range(ref, ref + n_blocks(cnt)):
+        ub = uidx(b)
+        m = hit4(tris, ub, ukx, uky, ukz, okx, oky, okz, sx, sy)
+        while m != 0:
+            ln = _lowest(m)
+            m &= m - 1
+            t, u, v = intersect_lane(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, ub, ln, tmin, tmax)
+            if t < np.inf:
+                return True
+    return False
 
 
 @inline
@@ -500,13 +594,13 @@ def _below(t):
 
 @inline
 def _prefetch_child(nodes, tris, ref, cnt):
-    """Start loading a child the traversal will visit later: its record, or its leaf's
-    triangle rows (36 bytes each, so every line of the run gets one)."""
+    """Start loading a child the traversal will visit later: its record, or every line
+    of its leaf's blocks."""
     if cnt == 0:
         prefetch(nodes, ref)
     else:
-        for k in range(ref, ref + cnt):
-            prefetch(tris, k)
+        for b in range(ref, ref + n_blocks(cnt)):
+            prefetch_lines(tris, b)
 
 
 @inline
@@ -520,8 +614,10 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     if tris.shape[0] == 0:
         return np.inf, -1, 0.0, 0.0
     links = nodes.view(np.int32)
+    tri_ids = tris.view(np.int32)
     fstack = stack.view(np.float32)
     ix, iy, iz, kx, ky, kz, sx, sy, sz, okx, oky, okz = ray_constants(ox, oy, oz, dx, dy, dz)
+    ukx = uidx(kx); uky = uidx(ky); ukz = uidx(kz)
     lnx, lny, lnz, lfx, lfy, lfz = _planes(ix, iy, iz, 0)
     rnx, rny, rnz, rfx, rfy, rfz = _planes(ix, iy, iz, 6)
     best_t = tmax
@@ -560,13 +656,8 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
                 ref = links[uref, R_REF]
                 continue
         else:
-            for k in range(ref, ref + cnt):
-                t, u, v = intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, tris, k, tmin, best_t)
-                if t < best_t:
-                    best_t = t
-                    best_p = k
-                    best_u = u
-                    best_v = v
+            best_t, best_p, best_u, best_v = leaf_closest(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, tri_ids,
+                                                          ref, cnt, tmin, best_t, best_p, best_u, best_v)
         found = False
         while sp > _U0:
             sp -= _U3
@@ -597,6 +688,7 @@ def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
         return False
     links = nodes.view(np.int32)
     ix, iy, iz, kx, ky, kz, sx, sy, sz, okx, oky, okz = ray_constants(ox, oy, oz, dx, dy, dz)
+    ukx = uidx(kx); uky = uidx(ky); ukz = uidx(kz)
     lnx, lny, lnz, lfx, lfy, lfz = _planes(ix, iy, iz, 0)
     rnx, rny, rnz, rfx, rfy, rfz = _planes(ix, iy, iz, 6)
     sp = _U0
@@ -628,11 +720,8 @@ def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
                 cnt = links[uref, R_CNT]
                 ref = links[uref, R_REF]
                 continue
-        else:
-            for k in range(ref, ref + cnt):
-                t, u, v = intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, tris, k, tmin, tmax)
-                if t < np.inf:
-                    return True
+        elif leaf_any(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, ref, cnt, tmin, tmax):
+            return True
         if sp == _U0:
             return False
         sp -= _U2
@@ -691,6 +780,7 @@ def trace_closest_batch(orig, dirs, tmax, nodes, tris):
             p_out[i] = -1
         return t_out, p_out
     links = nodes.view(np.int32)
+    tri_ids = tris.view(np.int32)
     n_chunks = (n + CHUNK - 1) // CHUNK
     for c in prange(n_chunks):
         lo = c * CHUNK
@@ -753,11 +843,8 @@ def trace_closest_batch(orig, dirs, tmax, nodes, tris):
                     kx = lk[j, 0]; ky = lk[j, 1]; kz = lk[j, 2]
                     sx = lf[j, 6]; sy = lf[j, 7]; sz = lf[j, 8]
                     okx = lf[j, 9]; oky = lf[j, 10]; okz = lf[j, 11]
-                    for k in range(ref, ref + cnt):
-                        t, u, v = intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, tris, k, 0.0, best_t)
-                        if t < best_t:
-                            best_t = t
-                            l_p[j] = k
+                    best_t, l_p[j], u, v = leaf_closest(okx, oky, okz, uidx(kx), uidx(ky), uidx(kz), sx, sy, sz, tris,
+                                                        tri_ids, ref, cnt, 0.0, best_t, l_p[j], 0.0, 0.0)
                 if not moved:
                     while sp > 0:
                         sp -= 3
@@ -860,11 +947,7 @@ def trace_occluded_batch(orig, dirs, tmax, nodes, tris):
                     kx = lk[j, 0]; ky = lk[j, 1]; kz = lk[j, 2]
                     sx = lf[j, 6]; sy = lf[j, 7]; sz = lf[j, 8]
                     okx = lf[j, 9]; oky = lf[j, 10]; okz = lf[j, 11]
-                    for k in range(ref, ref + cnt):
-                        t, u, v = intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, tris, k, 0.0, tm)
-                        if t < np.inf:
-                            hit = True
-                            break
+                    hit = leaf_any(okx, oky, okz, uidx(kx), uidx(ky), uidx(kz), sx, sy, sz, tris, ref, cnt, 0.0, tm)
                 if not moved and not hit and sp > 0:
                     sp -= 2
                     ref = stacks[j, sp]

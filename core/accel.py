@@ -8,16 +8,17 @@ from .kernels import bvh as K
 
 @dataclass
 class BVH:
-    nodes: np.ndarray  # float32 (R, 16), 64-byte aligned: packed records (kernels/bvh.py)
+    nodes: np.ndarray  # float32 (R, 32), 64-byte aligned: packed 4-wide records (kernels/bvh.py)
     prims: np.ndarray  # leaf order → original triangle index
-    tris: np.ndarray  # float32 (B, 40): leaf blocks of four triangles (kernels/bvh.py, tri4.py)
+    tris: np.ndarray  # float32 (B, 40): leaf blocks of four triangles (kernels/bvh.py, simd.py)
     v0: np.ndarray  # float32 (T, 3), leaf order: the first corner rounded to float32 (shading)
     e1: np.ndarray  # float64 (T, 3): exact v1 - v0 of the float32-rounded corners (shading)
     e2: np.ndarray
 
     @property
     def links(self):
-        """int32 (R, 16) view of ``nodes``: columns L_REF, L_CNT, R_REF, R_CNT."""
+        """int32 (R, 32) view of ``nodes``: the children's references at columns C_REF..C_REF + 3
+        and counts at C_CNT..C_CNT + 3."""
         return self.nodes.view(np.int32)
 
     @property
@@ -26,24 +27,27 @@ class BVH:
 
     @property
     def n_nodes(self):
-        """Nodes of the binary tree: the root and every child present in a record."""
-        lk = self.links
-        return 1 + int(np.count_nonzero(lk[:, K.L_REF] >= 0) + np.count_nonzero(lk[:, K.R_REF] >= 0))
+        """Nodes of the tree: the root and every child present in a record (records and leaves)."""
+        return 1 + int(np.count_nonzero(self.links[:, K.C_REF:K.C_REF + 4] >= 0))
 
     def leaves(self):
         """(first triangle (leaf order), count, first block, box (L, 6)) of every leaf, in
         record order."""
         lk = self.links
         blocks, counts, boxes = [], [], []
-        for side in (0, 1):
-            cnt = lk[:, K.L_CNT + 2 * side]
-            ref = lk[:, K.L_REF + 2 * side]
+        for c in range(4):
+            cnt = lk[:, K.C_CNT + c]
+            ref = lk[:, K.C_REF + c]
             leaf = (cnt > 0) & (ref >= 0)
             blocks.append(ref[leaf]); counts.append(cnt[leaf])
-            boxes.append(self.nodes[leaf, 6 * side:6 * side + 6])
+            boxes.append(self.child_boxes(c)[leaf])
         blocks = np.concatenate(blocks)
         firsts = self.tris.view(np.int32)[blocks, K.PRIM_COL] if blocks.size else blocks
         return firsts, np.concatenate(counts), blocks, np.concatenate(boxes)
+
+    def child_boxes(self, c):
+        """float32 (R, 6): the box (min xyz, max xyz) of child ``c`` of every record."""
+        return self.nodes[:, K.C_BOX + c:K.C_BOX + 24:4]
 
     def corners(self):
         """float32 (T, 9): every triangle's corners v0, v1, v2 in leaf order, read back from
@@ -200,17 +204,17 @@ def brute_force_closest(v0, v1, v2, origins, directions, chunk=256):
 
 
 def tree_depth(bvh):
-    """Number of nodes on the longest root-to-leaf path (1 for a single leaf)."""
+    """Levels of the tree on its longest root-to-leaf path: records, plus one for the
+    leaves (1 for a tree that is a single leaf)."""
     lk = bvh.links
-    if bvh.tris.shape[0] == 0 or lk[0, K.R_REF] < 0:
+    inner = lk[:, K.C_REF:K.C_REF + 4]
+    if bvh.tris.shape[0] == 0 or (bvh.n_records == 1 and np.count_nonzero(inner >= 0) == 1):
         return 1
-    level = np.zeros(1, np.int64)  # records; a record at level k holds nodes of depth k + 1
+    level = np.zeros(1, np.int64)
     depth = 1
     while level.size:
         depth += 1
-        nxt = []
-        for side in (0, 1):
-            cnt = lk[level, K.L_CNT + 2 * side]
-            nxt.append(lk[level, K.L_REF + 2 * side][cnt == 0].astype(np.int64))
-        level = np.concatenate(nxt)
+        cnt = lk[level, K.C_CNT:K.C_CNT + 4]
+        ref = lk[level, K.C_REF:K.C_REF + 4]
+        level = ref[(cnt == 0) & (ref >= 0)].astype(np.int64)
     return depth

@@ -170,7 +170,7 @@ def _reset_peak():
 
 
 def tree_stats(bvh):
-    """(depth, mean leaf size, SAH cost with unit traversal and intersection costs)."""
+    """(depth, mean leaf size, SAH cost with unit record-visit and intersection costs)."""
     from spectral_gi.core.accel import tree_depth
 
     def area(box):
@@ -178,14 +178,14 @@ def tree_stats(bvh):
         return 2 * (ext[:, 0] * ext[:, 1] + ext[:, 1] * ext[:, 2] + ext[:, 2] * ext[:, 0])
 
     lk = bvh.links
-    lo = np.minimum(bvh.nodes[0, 0:3], bvh.nodes[0, 6:9])
-    hi = np.maximum(bvh.nodes[0, 3:6], bvh.nodes[0, 9:12])
-    root = area(np.concatenate([lo, hi])[None])[0]
+    live = lk[0, 24:28] >= 0
+    root_boxes = np.stack([bvh.child_boxes(c)[0] for c in range(4)])[live]
+    root = area(np.concatenate([root_boxes[:, :3].min(0), root_boxes[:, 3:].max(0)])[None])[0]
     inner = 0.0
-    for side in (0, 1):  # every internal child, i.e. every record but the root's
-        sel = (lk[:, 13 + 2 * side] == 0) & (lk[:, 12 + 2 * side] >= 0)
-        inner += area(bvh.nodes[sel, 6 * side:6 * side + 6]).sum()
-    _, counts, boxes = bvh.leaves()
+    for c in range(4):  # every record child, i.e. every record but the root's
+        sel = (lk[:, 28 + c] == 0) & (lk[:, 24 + c] >= 0)
+        inner += area(bvh.child_boxes(c)[sel]).sum()
+    _, counts, _, boxes = bvh.leaves()
     cost = (root + inner + (area(boxes) * counts).sum()) / root
     return tree_depth(bvh), counts.mean(), cost
 

@@ -8,16 +8,17 @@ from .kernels import bvh as K
 
 @dataclass
 class BVH:
-    nodes: np.ndarray  # float32 (R, 16), 64-byte aligned: packed records (kernels/bvh.py)
+    nodes: np.ndarray  # float32 (R, 32), 64-byte aligned: packed 4-wide records (kernels/bvh.py)
     prims: np.ndarray  # leaf order → original triangle index
-    tris: np.ndarray  # float32 (T, 9), leaf order: the float32-rounded corners v0, v1, v2
+    tris: np.ndarray  # float32 (B, 40): leaf blocks of four triangles (kernels/bvh.py, simd.py)
     v0: np.ndarray  # float32 (T, 3), leaf order: the first corner rounded to float32 (shading)
     e1: np.ndarray  # float64 (T, 3): exact v1 - v0 of the float32-rounded corners (shading)
     e2: np.ndarray
 
     @property
     def links(self):
-        """int32 (R, 16) view of ``nodes``: columns L_REF, L_CNT, R_REF, R_CNT."""
+        """int32 (R, 32) view of ``nodes``: the children's references at columns C_REF..C_REF + 3
+        and counts at C_CNT..C_CNT + 3."""
         return self.nodes.view(np.int32)
 
     @property
@@ -26,36 +27,62 @@ class BVH:
 
     @property
     def n_nodes(self):
-        """Nodes of the binary tree: the root and every child present in a record."""
-        lk = self.links
-        return 1 + int(np.count_nonzero(lk[:, K.L_REF] >= 0) + np.count_nonzero(lk[:, K.R_REF] >= 0))
+        """Nodes of the tree: the root and every child present in a record (records and leaves)."""
+        return 1 + int(np.count_nonzero(self.links[:, K.C_REF:K.C_REF + 4] >= 0))
 
     def leaves(self):
-        """(first triangle, count, box (L, 6)) of every leaf, in record order."""
+        """(first triangle (leaf order), count, first block, box (L, 6)) of every leaf, in
+        record order."""
         lk = self.links
-        firsts, counts, boxes = [], [], []
-        for side in (0, 1):
-            cnt = lk[:, K.L_CNT + 2 * side]
-            ref = lk[:, K.L_REF + 2 * side]
+        blocks, counts, boxes = [], [], []
+        for c in range(4):
+            cnt = lk[:, K.C_CNT + c]
+            ref = lk[:, K.C_REF + c]
             leaf = (cnt > 0) & (ref >= 0)
-            firsts.append(ref[leaf]); counts.append(cnt[leaf])
-            boxes.append(self.nodes[leaf, 6 * side:6 * side + 6])
-        return np.concatenate(firsts), np.concatenate(counts), np.concatenate(boxes)
+            blocks.append(ref[leaf]); counts.append(cnt[leaf])
+            boxes.append(self.child_boxes(c)[leaf])
+        blocks = np.concatenate(blocks)
+        firsts = self.tris.view(np.int32)[blocks, K.PRIM_COL] if blocks.size else blocks
+        return firsts, np.concatenate(counts), blocks, np.concatenate(boxes)
+
+    def child_boxes(self, c):
+        """float32 (R, 6): the box (min xyz, max xyz) of child ``c`` of every record."""
+        return self.nodes[:, K.C_BOX + c:K.C_BOX + 24:4]
+
+    def corners(self):
+        """float32 (T, 9): every triangle's corners v0, v1, v2 in leaf order, read back from
+        the leaf blocks (for tests and tools; the kernels read the blocks)."""
+        ids = self.tris.view(np.int32)[:, K.PRIM_COL:K.PRIM_COL + K.BLOCK]
+        coords = self.tris[:, :9 * K.BLOCK].reshape(-1, 9, K.BLOCK)
+        out = np.empty((self.prims.size, 9), np.float32)
+        b, ln = np.nonzero(ids >= 0)
+        out[ids[b, ln]] = coords[b, :, ln]
+        return out
 
     @property
     def nbytes(self):
-        """Bytes the renderer keeps: node records, leaf-order triangles and ``prims``.
+        """Bytes the renderer keeps: node records, leaf blocks, leaf-order shading arrays
+        and ``prims``.
 
-        At most 64 (T - 1) + 100 T, i.e. < 164 bytes per triangle whatever the tree.
+        At most 64 (T - 1) + 160 T + 64 T (a block per triangle when every leaf holds one),
+        i.e. < 288 bytes per triangle whatever the tree; with the builder's leaves of up to
+        8 to 16 triangles it is far less (benchmarks/scale_bench.py).
         """
         return sum(a.nbytes for a in (self.nodes, self.prims, self.tris, self.v0, self.e1, self.e2))
 
 
+def _aligned_empty(shape, dtype, align=64):
+    """A numpy-allocated empty array whose data start on an ``align``-byte boundary."""
+    dtype = np.dtype(dtype)
+    nbytes = int(np.prod(shape)) * dtype.itemsize
+    buf = np.empty(nbytes + align, np.uint8)
+    off = (-buf.ctypes.data) % align
+    return buf[off:off + nbytes].view(dtype).reshape(shape)
+
+
 def _aligned_copy(a, align=64):
     """A numpy-allocated copy of ``a`` whose data start on an ``align``-byte boundary."""
-    buf = np.empty(a.nbytes + align, np.uint8)
-    off = (-buf.ctypes.data) % align
-    out = buf[off:off + a.nbytes].view(a.dtype).reshape(a.shape)
+    out = _aligned_empty(a.shape, a.dtype, align)
     out[...] = a
     return out
 
@@ -83,15 +110,17 @@ def build(v0, v1, v2):
     n = a.shape[0]
     # numpy-allocated outputs: numpy asks the kernel for transparent huge pages on large
     # arrays, which spares traversal a TLB miss per node on big scenes
-    tris = np.empty((n, 9), np.float32)
+    # blocks: a leaf of n triangles takes ceil(n / 4) <= n, so n rows always suffice; the
+    # rows past the blocks used are never written, so their pages are never resident
+    tris = _aligned_empty((n, K.BLOCK_COLS), np.float32)
     tv0 = np.empty((n, 3), np.float32)
     te1 = np.empty((n, 3), K.EDGE_DTYPE)
     te2 = np.empty((n, 3), K.EDGE_DTYPE)
-    nodes, prims, bad = K.build_bvh(a, b, c, tris, tv0, te1, te2)
+    nodes, prims, bad, n_blk = K.build_bvh(a, b, c, tris, tv0, te1, te2)
     if bad >= 0:
         raise ValueError(f"accel.build: triangle {bad} has a non-finite corner coordinate "
                          f"({a[bad].tolist()}, {b[bad].tolist()}, {c[bad].tolist()})")
-    return BVH(_aligned_copy(nodes), prims, tris, tv0, te1, te2)
+    return BVH(_aligned_copy(nodes), prims, tris[:n_blk], tv0, te1, te2)
 
 
 def _rays(origins, directions, tmax):
@@ -175,17 +204,17 @@ def brute_force_closest(v0, v1, v2, origins, directions, chunk=256):
 
 
 def tree_depth(bvh):
-    """Number of nodes on the longest root-to-leaf path (1 for a single leaf)."""
+    """Levels of the tree on its longest root-to-leaf path: records, plus one for the
+    leaves (1 for a tree that is a single leaf)."""
     lk = bvh.links
-    if bvh.tris.shape[0] == 0 or lk[0, K.R_REF] < 0:
+    inner = lk[:, K.C_REF:K.C_REF + 4]
+    if bvh.tris.shape[0] == 0 or (bvh.n_records == 1 and np.count_nonzero(inner >= 0) == 1):
         return 1
-    level = np.zeros(1, np.int64)  # records; a record at level k holds nodes of depth k + 1
+    level = np.zeros(1, np.int64)
     depth = 1
     while level.size:
         depth += 1
-        nxt = []
-        for side in (0, 1):
-            cnt = lk[level, K.L_CNT + 2 * side]
-            nxt.append(lk[level, K.L_REF + 2 * side][cnt == 0].astype(np.int64))
-        level = np.concatenate(nxt)
+        cnt = lk[level, K.C_CNT:K.C_CNT + 4]
+        ref = lk[level, K.C_REF:K.C_REF + 4]
+        level = ref[(cnt == 0) & (ref >= 0)].astype(np.int64)
     return depth

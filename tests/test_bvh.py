@@ -102,7 +102,7 @@ def test_sah_tree_is_shallow_and_compact():
     v0, v1, v2 = _soup(rng, 20000, size=0.01)
     bvh = accel.build(v0, v1, v2)
     assert bvh.n_nodes < 2 * 20000
-    first, count, _ = bvh.leaves()
+    first, count, _, _ = bvh.leaves()
     assert count.max() <= 16
     # every primitive appears exactly once in the leaves
     assert count.sum() == 20000
@@ -111,45 +111,65 @@ def test_sah_tree_is_shallow_and_compact():
 
 @pytest.mark.parametrize("n_tri", [1, 5, 3000])
 def test_packed_records_are_consistent(n_tri):
-    """The packed layout: 64-byte aligned records; leaf ranges tile [0, T) exactly; every
-    leaf box holds its triangles' corners and every internal child's box holds both boxes
-    of its record; a single-leaf tree has an absent right child whose box no ray enters;
-    ``tris`` rows are the float32 corners of ``prims`` and the shading edges their exact
-    differences."""
+    """The packed layout: 64-byte aligned 4-wide records; leaf ranges tile [0, T) exactly;
+    every leaf box holds its triangles' corners and every record child's box holds the
+    boxes of that record's children; absent children have boxes no ray enters; a
+    single-leaf tree is one record with one child; each leaf owns ceil(count / 4)
+    consecutive blocks, in leaf order, whose lanes hold its triangles in order and then
+    degenerate padding lanes of index -1; the blocks' corners are the float32 corners of
+    ``prims`` and the shading edges their exact differences."""
     rng = np.random.default_rng(12)
     v0, v1, v2 = _soup(rng, n_tri, size=0.05)
     bvh = accel.build(v0, v1, v2)
     nodes, lk = bvh.nodes, bvh.links
-    assert nodes.dtype == np.float32 and nodes.shape[1] == 16 and nodes.ctypes.data % 64 == 0
-    assert bvh.tris.dtype == np.float32 and bvh.tris.shape == (n_tri, 9)
-    first, count, boxes = bvh.leaves()
+    assert nodes.dtype == np.float32 and nodes.shape[1] == 32 and nodes.ctypes.data % 64 == 0
+    first, count, block, boxes = bvh.leaves()
+    n_blk = (count + 3) // 4
+    assert bvh.tris.dtype == np.float32 and bvh.tris.shape == (n_blk.sum(), 40)
     order = np.argsort(first)
     assert first[order][0] == 0 and np.array_equal(first[order][1:], (first + count)[order][:-1])
     assert (first + count).max() == n_tri
-    corners = bvh.tris.reshape(-1, 3, 3)
+    # blocks in leaf order, each leaf's consecutive, lanes in leaf order then padding
+    assert block[order][0] == 0 and np.array_equal(block[order][1:], (block + n_blk)[order][:-1])
+    ids = bvh.tris.view(np.int32)[:, 36:40].reshape(-1)
+    for f, c, b in zip(first, count, block):
+        lanes = ids[4 * b:4 * (b + (c + 3) // 4)]
+        assert np.array_equal(lanes[:c], np.arange(f, f + c)) and np.all(lanes[c:] == -1)
+    pad = bvh.tris[:, :36].reshape(-1, 9, 4).transpose(0, 2, 1).reshape(-1, 3, 3)[ids < 0]
+    assert np.all(pad == pad[:, :1])  # three equal corners: determinant 0, never hit
+    corners = bvh.corners().reshape(-1, 3, 3)
     for f, c, box in zip(first, count, boxes):
         pts = corners[f:f + c].reshape(-1, 3)
         assert np.all(box[:3] <= pts.min(0)) and np.all(pts.max(0) <= box[3:])
     seen = np.zeros(bvh.n_records, int)
-    for side in (0, 1):
-        inner = np.nonzero((lk[:, 13 + 2 * side] == 0) & (lk[:, 12 + 2 * side] >= 0))[0]
-        kids = lk[inner, 12 + 2 * side]
+    for c in range(4):
+        ref, cnt, box = lk[:, 24 + c], lk[:, 28 + c], bvh.child_boxes(c)
+        absent = ref < 0
+        assert np.all(cnt[absent] == 0) and np.all(box[absent, :3] == np.inf) and np.all(box[absent, 3:] == -np.inf)
+        inner = np.nonzero((cnt == 0) & ~absent)[0]
+        kids = ref[inner]
         seen[kids] += 1
-        box = nodes[inner, 6 * side:6 * side + 6]
-        for s2 in (0, 1):
-            sub = nodes[kids, 6 * s2:6 * s2 + 6]
-            live = lk[kids, 12 + 2 * s2] >= 0
-            assert np.all(box[live, :3] <= sub[live, :3]) and np.all(sub[live, 3:] <= box[live, 3:])
+        for c2 in range(4):
+            sub = bvh.child_boxes(c2)[kids]
+            live = lk[kids, 24 + c2] >= 0
+            assert np.all(box[inner][live, :3] <= sub[live, :3]) and np.all(sub[live, 3:] <= box[inner][live, 3:])
+        assert np.all(kids > inner)  # depth-first numbering
     assert seen[0] == 0 and np.all(seen[1:] == 1)  # every record but the root's has one parent
+    # the collapse fills records: every record but a single leaf's has two children or more,
+    # and on average far more than a binary record's two
+    present = np.count_nonzero(lk[:, 24:28] >= 0, axis=1)
+    if n_tri > 100:
+        assert present.min() >= 2 and present.mean() > 2.75
     if n_tri <= K.MAX_LEAF:
-        assert bvh.n_records == 1 and lk[0, 12] == 0 and lk[0, 13] == n_tri and lk[0, 14] == -1
-        assert np.all(nodes[0, 6:12] == np.inf) and accel.tree_depth(bvh) == 1
+        assert bvh.n_records == 1 and lk[0, 24] == 0 and lk[0, 28] == n_tri and np.all(lk[0, 25:28] == -1)
+        assert accel.tree_depth(bvh) == 1
     p = bvh.prims
+    tri = bvh.corners()
     for k, v in enumerate((v0, v1, v2)):
-        assert np.array_equal(bvh.tris[:, 3 * k:3 * k + 3], np.asarray(v, np.float32)[p])
-    assert np.array_equal(bvh.v0, bvh.tris[:, :3])
-    assert np.array_equal(bvh.e1, bvh.tris[:, 3:6].astype(np.float64) - bvh.tris[:, :3])
-    assert np.array_equal(bvh.e2, bvh.tris[:, 6:9].astype(np.float64) - bvh.tris[:, :3])
+        assert np.array_equal(tri[:, 3 * k:3 * k + 3], np.asarray(v, np.float32)[p])
+    assert np.array_equal(bvh.v0, tri[:, :3])
+    assert np.array_equal(bvh.e1, tri[:, 3:6].astype(np.float64) - tri[:, :3])
+    assert np.array_equal(bvh.e2, tri[:, 6:9].astype(np.float64) - tri[:, :3])
 
 
 def _icosphere(level):
@@ -221,8 +241,9 @@ def test_edges_are_exact_and_float32_input_builds_the_same_tree():
     v0, v1, v2 = _soup(rng, 3000)
     b64 = accel.build(v0, v1, v2)
     b32 = accel.build(*(np.asarray(v, np.float32) for v in (v0, v1, v2)))
-    for name in ("nodes", "prims", "tris", "v0", "e1", "e2"):
-        assert np.array_equal(getattr(b64, name), getattr(b32, name)), name
+    for name in ("nodes", "prims", "tris", "v0", "e1", "e2"):  # bit for bit (int32 slots are NaN as float32)
+        x, y = getattr(b64, name), getattr(b32, name)
+        assert x.shape == y.shape and x.tobytes() == y.tobytes(), name
     p = b64.prims
     for e, v in ((b64.e1, v1), (b64.e2, v2)):
         assert e.dtype == np.float64
@@ -232,7 +253,7 @@ def test_edges_are_exact_and_float32_input_builds_the_same_tree():
         b1 = accel.build(v0, v1, v2)
     finally:
         set_threads(None)
-    assert all(np.array_equal(getattr(b1, n), getattr(b64, n)) for n in ("nodes", "prims", "tris"))
+    assert all(getattr(b1, n).tobytes() == getattr(b64, n).tobytes() for n in ("nodes", "prims", "tris"))
 
 
 def test_depth_is_bounded_for_pathological_input():
@@ -246,7 +267,8 @@ def test_depth_is_bounded_for_pathological_input():
     v2 = v0 + np.stack([0.5 * x, np.zeros(n), 0.3 * x], 1)
     bvh = accel.build(v0, v1, v2)
     depth = accel.tree_depth(bvh)
-    assert K.FALLBACK_DEPTH < depth <= K.MAX_DEPTH and 3 * (K.MAX_DEPTH - 1) <= K.STACK_SIZE
+    # a collapsed record spans up to three binary levels of this chain-like tree
+    assert K.FALLBACK_DEPTH // 3 < depth <= K.MAX_DEPTH and 9 * (depth - 1) <= K.STACK_SIZE
     assert np.array_equal(np.sort(bvh.prims), np.arange(n))
     rng = np.random.default_rng(4)
     k = rng.integers(0, 400, 2000)

@@ -1,63 +1,78 @@
-"""Bounding volume hierarchy over triangles: binned SAH build, packed nodes, ordered stack traversal.
+"""Bounding volume hierarchy over triangles: binned SAH build, 4-wide packed records, ordered stack traversal.
 
-Nodes are packed for traversal, one 64-byte record (one cache line) per internal node,
-holding both children's boxes and references: ``nodes`` float32 (R, 16), record 0 the
-root's; its last four slots are int32 bit patterns (read through ``nodes.view(np.int32)``)
+The builder makes a binary tree by binned SAH and then collapses it into a tree of
+arity four (``_collapse``): each record holds up to four children, so a ray's chain of
+record visits is about half as long, and the four boxes are tested at once
+(``simd.slab4``, 4-wide float64). Records are packed for traversal, 128 bytes (two
+cache lines) each: ``nodes`` float32 (R, 32), record 0 the root's; columns
 
-* ``[0:6]``  left child's box (min xyz, max xyz), float32 rounded outwards
-* ``[6:12]`` right child's box
-* ``[L_REF]``, ``[L_CNT]`` (12, 13) the left child: ``cnt == 0`` → ``ref`` is its record;
-  ``cnt > 0`` → a leaf of ``cnt`` triangles from ``ref`` in leaf order
-* ``[R_REF]``, ``[R_CNT]`` (14, 15) the right child, the same way
+* ``[0:24]`` the children's boxes plane by plane: min x of children 0-3, then min y,
+  min z, max x, max y, max z (float32, rounded outwards); an absent child's box is
+  min +inf, max -inf, which no ray enters
+* ``[C_REF:C_REF + 4]`` (24-27) the children's references and ``[C_CNT:C_CNT + 4]``
+  (28-31) their triangle counts, int32 bit patterns (read through ``nodes.view(np.int32)``):
+  ``cnt == 0`` → ``ref`` is the child's record (-1: absent); ``cnt > 0`` → a leaf of
+  ``cnt`` triangles whose first block is ``ref`` (below)
 
-A tree that is a single leaf gets one record whose right child is absent (ref -1, count
-0, a box at +inf on every axis, which ``_slab`` never enters). ``accel.build`` gives the
-array 64-byte alignment so a record never straddles two cache lines.
+A tree that is a single leaf gets one record with that leaf as its only child.
+``accel.build`` gives the array 64-byte alignment so a record is exactly two lines.
 
-Triangles for traversal are ``tris`` float32 (T, 9), leaf order, one row per triangle:
-its float32-rounded corners v0, v1, v2 (36 bytes, so a leaf's triangles are one
-contiguous run). The watertight test reads the corners themselves, so neighbouring
-triangles see the very same corner. Shading keeps ``v0`` (float32 (T, 3)) and the exact
+Triangles for traversal are ``tris`` float32 (B, 40), in blocks of four (``simd.py``): a
+leaf of ``cnt`` triangles owns ceil(cnt / 4) consecutive blocks, and its reference in the
+record above is its first block. A block row holds the float32-rounded corners of its
+four lanes coordinate by coordinate (column ``4 * (3 * corner + axis) + lane``: v0 x of
+the four lanes, then v0 y, ...), then four int32 bit patterns (columns 36-39, read through
+``tris.view(np.int32)``): each lane's triangle index in leaf order, -1 for a padding lane
+(three equal corners, never hit). A leaf's triangles fill its lanes in leaf order. The
+traversal tests the four lanes of a block at once (``simd.hit4``, 4-wide float64) and
+the few lanes that pass with the scalar watertight test, which reads the corners
+themselves, so neighbouring triangles see the very same corner. Shading keeps ``v0`` (float32 (T, 3)) and the exact
 edges ``e1 = v1 - v0``, ``e2 = v2 - v0`` (float64 (T, 3), differences of the float32
 corners, exact unless a corner's coordinates differ by more than 2^29 in magnitude),
 also in leaf order.
 
 The tree depth is at most ``MAX_DEPTH``: below ``FALLBACK_DEPTH`` the builder splits by
 SAH, deeper it halves the triangle range, which needs at most 31 more levels for fewer
-than 2^31 triangles. Traversal pushes at most one child per record level (3 int32
-slots: reference, count, entry distance), so ``STACK_SIZE`` slots always suffice.
+than 2^31 triangles; collapsing never deepens it. Traversal leaves at most three
+children per record level on the stack (3 int32 slots each: reference, count, entry
+distance), so ``STACK_SIZE`` slots always suffice.
 
 Memory latency: beyond a few million triangles the records and rows no longer fit the
 caches and a ray's node visits form a chain of memory round trips. A pushed child is
 prefetched when it is pushed (``prefetch.py``), so it has arrived when it is popped. The
 batch kernels go further: each thread keeps ``LANES`` rays in flight and advances them
 in turn, one node or leaf each, prefetching what each ray reads next, so the round trips
-of different rays overlap (the rays' paths and hits are exactly those of the one-ray
-functions the path kernel calls).
+of different rays overlap (one step function serves both, so the rays' paths and hits
+are exactly those of the one-ray functions the path kernel calls).
 """
 import numpy as np
 from numba import prange
 
 from ..jit import function, inline, kernel
-from .prefetch import prefetch
+from .prefetch import prefetch_lines
+from .simd import BLOCK, BLOCK_COLS, PRIM_COL, hit4, slab4
 
 N_BINS = 16
 MAX_LEAF = 8  # ranges this small always become leaves (fewer nodes, same ray speed as 4)
 MAX_LEAF_SAH = 16  # SAH may keep ranges up to this size as leaves
 FALLBACK_DEPTH = 32
 MAX_DEPTH = FALLBACK_DEPTH + 32
-STACK_SIZE = 3 * MAX_DEPTH  # int32 slots: up to 3 per pushed child, at most one per record level
+STACK_SIZE = 3 * 3 * MAX_DEPTH  # int32 slots: 3 per pushed child, at most 3 left per record level
 TRAVERSAL_COST = 1.0  # relative to one triangle test
 EDGE_DTYPE = np.float64
-NODE_WIDTH = 16  # float32 slots per record: 64 bytes
+NODE_WIDTH = 32  # float32 slots per record: 128 bytes, two cache lines
+C_BOX = 0  # columns 0-23: the four children's boxes, plane by plane (module docstring)
+C_REF = 24  # columns 24-27: the children's references (int32)
+C_CNT = 28  # columns 28-31: the children's triangle counts (int32; 0: a record)
 _U0 = np.uint64(0)  # unsigned stack offsets (see uidx)
 _U1 = np.uint64(1)
 _U2 = np.uint64(2)
 _U3 = np.uint64(3)
-L_REF = 12
-L_CNT = 13
-R_REF = 14
-R_CNT = 15
+_B2_WIDTH = 16  # the builder's binary records: two boxes (0-5, 6-11), then int32
+_L_REF = 12  # left reference, count, right reference, count (as in the 4-wide records)
+_L_CNT = 13
+_R_REF = 14
+_R_CNT = 15
 
 
 @inline
@@ -120,29 +135,109 @@ def _set_child_box(nodes, rec, side, l0, l1, l2, h0, h1, h2):
     nodes[rec, o + 3] = _up(h0); nodes[rec, o + 4] = _up(h1); nodes[rec, o + 5] = _up(h2)
 
 
+@inline
+def _collapse(n2, l2, n_rec):
+    """The 4-wide records of the binary tree (``n2`` records, ``l2`` their int32 view):
+    each 4-wide record takes a binary record's two children and, while it has fewer than
+    four and one of them is a record, replaces the record child of largest surface area by
+    its two children, so it spans up to two binary levels. Records are numbered in
+    depth-first order, the root's 0. Returns (records, count)."""
+    nodes = np.empty((max(1, n_rec), NODE_WIDTH), np.float32)
+    links = nodes.view(np.int32)
+    st = np.empty((3 * MAX_DEPTH + 8, 2), np.int64)  # (binary record, slot 4 * record + child or -1)
+    c_ref = np.empty(4, np.int64)
+    c_cnt = np.empty(4, np.int64)
+    c_box = np.empty((4, 6), np.float32)
+    st[0, 0] = 0
+    st[0, 1] = -1
+    sp = 1
+    n4 = 0
+    while sp > 0:
+        sp -= 1
+        r2 = st[sp, 0]
+        slot = st[sp, 1]
+        rec = n4
+        n4 += 1
+        if slot >= 0:
+            links[slot >> 2, C_REF + (slot & 3)] = rec
+            links[slot >> 2, C_CNT + (slot & 3)] = 0
+        nc = 0
+        for side in range(2):
+            if l2[r2, _L_REF + 2 * side] >= 0:  # present (absent only in a single-leaf or empty tree)
+                c_ref[nc] = l2[r2, _L_REF + 2 * side]
+                c_cnt[nc] = l2[r2, _L_CNT + 2 * side]
+                for q in range(6):
+                    c_box[nc, q] = n2[r2, 6 * side + q]
+                nc += 1
+        while nc < 4:
+            best = -1
+            best_a = -1.0
+            for i in range(nc):
+                if c_cnt[i] == 0:
+                    a = _area(np.float64(c_box[i, 3]) - c_box[i, 0], np.float64(c_box[i, 4]) - c_box[i, 1],
+                              np.float64(c_box[i, 5]) - c_box[i, 2])
+                    if a > best_a:
+                        best_a = a
+                        best = i
+            if best < 0:
+                break
+            r = c_ref[best]
+            c_ref[best] = l2[r, _L_REF]; c_cnt[best] = l2[r, _L_CNT]
+            c_ref[nc] = l2[r, _R_REF]; c_cnt[nc] = l2[r, _R_CNT]
+            for q in range(6):
+                c_box[best, q] = n2[r, q]
+                c_box[nc, q] = n2[r, 6 + q]
+            nc += 1
+        for c in range(4):
+            if c < nc:
+                for q in range(6):
+                    nodes[rec, C_BOX + 4 * q + c] = c_box[c, q]
+                links[rec, C_REF + c] = c_ref[c]
+                links[rec, C_CNT + c] = c_cnt[c]
+            else:  # absent: a box no ray enters
+                for q in range(3):
+                    nodes[rec, C_BOX + 4 * q + c] = np.inf
+                    nodes[rec, C_BOX + 4 * (3 + q) + c] = -np.inf
+                links[rec, C_REF + c] = -1
+                links[rec, C_CNT + c] = 0
+        for c in range(nc - 1, -1, -1):  # the first child's subtree is numbered first
+            if c_cnt[c] == 0:
+                st[sp, 0] = c_ref[c]
+                st[sp, 1] = 4 * rec + c
+                sp += 1
+    return nodes, n4
+
+
 @kernel
 def build_bvh(v0, v1, v2, tris, tv0, te1, te2):
     """Binned-SAH build over corners (T, 3) (float32 or float64; rounded to float32).
 
-    Fills the caller's leaf-order triangle arrays: ``tris`` float32 (T, 9) the corners for
-    traversal, ``tv0`` float32 (T, 3), ``te1``, ``te2`` float64 (T, 3) the shading arrays
-    (so the caller chooses their memory, e.g. huge pages). Returns (nodes, prims, bad):
-    ``nodes`` the packed records (module docstring; a view of a larger, mostly untouched
-    buffer: copy it), ``prims`` maps leaf order to input order, ``bad`` the index of the
-    first triangle with a non-finite coordinate, or -1 (the tree is then not valid).
+    Fills the caller's arrays (so the caller chooses their memory, e.g. huge pages):
+    ``tris`` float32 (T, BLOCK_COLS) the leaf blocks for traversal (a leaf of n
+    triangles takes ceil(n / 4) <= n blocks, so T rows always suffice; the first
+    ``n_blk`` are used), ``tv0`` float32 (T, 3), ``te1``, ``te2`` float64 (T, 3) the
+    leaf-order shading arrays. Returns (nodes, prims, bad, n_blk): ``nodes`` the packed
+    records (module docstring; a view of a larger, mostly untouched buffer: copy it),
+    ``prims`` maps leaf order to input order, ``bad`` the index of the first triangle with
+    a non-finite coordinate, or -1 (the tree is then not valid), ``n_blk`` the blocks used.
     """
     n_tri = v0.shape[0]
     max_rec = max(1, n_tri - 1)  # inner nodes of a tree whose leaves are never empty
     # np.empty: the pages of records never written are never touched, so never resident
-    nodes = np.empty((max_rec, NODE_WIDTH), np.float32)
+    nodes = np.empty((max_rec, _B2_WIDTH), np.float32)
     links = nodes.view(np.int32)
     prims = np.empty(n_tri, np.int32)
     bad = -1
     n_rec = 0
+    n_blk = 0
+    tri_ids = tris.view(np.int32)
+    leaf_s = np.empty(n_tri, np.int64)  # each leaf's first triangle (leaf order) and count,
+    leaf_n = np.empty(n_tri, np.int64)  # in the order the leaves are made (= leaf order)
+    n_leaf = 0
     if n_tri == 0:
         for q in range(12):
             nodes[0, q] = np.inf
-        links[0, L_REF] = -1; links[0, L_CNT] = 0; links[0, R_REF] = -1; links[0, R_CNT] = 0
+        links[0, _L_REF] = -1; links[0, _L_CNT] = 0; links[0, _R_REF] = -1; links[0, _R_CNT] = 0
         n_rec = 1
     else:
         # per-triangle bounds of the float32 corners; partitioned in place with prims
@@ -157,7 +252,7 @@ def build_bvh(v0, v1, v2, tris, tv0, te1, te2):
                     bad = i
             prims[i] = i
         if bad >= 0:
-            return nodes[:1], prims, bad
+            return nodes[:1], prims, bad, 0  # a placeholder: the tree is not valid
 
         b_cnt = np.zeros((3, N_BINS), np.int64)
         b_lo = np.empty((3, N_BINS, 3), np.float32)
@@ -262,24 +357,29 @@ def build_bvh(v0, v1, v2, tris, tv0, te1, te2):
                     is_leaf = True
 
             if is_leaf:
+                blk = n_blk
+                n_blk += n_blocks(n)
+                leaf_s[n_leaf] = s
+                leaf_n[n_leaf] = n
+                n_leaf += 1
                 if slot < 0:
                     # the whole tree is one leaf: record 0 holds it and a box no ray meets
                     for q in range(6):
                         nodes[0, q] = st_c[sp, 6 + q]
                     for q in range(6, 12):
                         nodes[0, q] = np.inf  # not rounded: nextafter(inf, -inf) is finite
-                    links[0, L_REF] = s; links[0, L_CNT] = n; links[0, R_REF] = -1; links[0, R_CNT] = 0
+                    links[0, _L_REF] = blk; links[0, _L_CNT] = n; links[0, _R_REF] = -1; links[0, _R_CNT] = 0
                     n_rec = 1
                 else:
-                    links[slot >> 1, L_REF + 2 * (slot & 1)] = s
-                    links[slot >> 1, L_CNT + 2 * (slot & 1)] = n
+                    links[slot >> 1, _L_REF + 2 * (slot & 1)] = blk
+                    links[slot >> 1, _L_CNT + 2 * (slot & 1)] = n
                 continue
 
             rec = n_rec
             n_rec += 1
             if slot >= 0:
-                links[slot >> 1, L_REF + 2 * (slot & 1)] = rec
-                links[slot >> 1, L_CNT + 2 * (slot & 1)] = 0
+                links[slot >> 1, _L_REF + 2 * (slot & 1)] = rec
+                links[slot >> 1, _L_CNT + 2 * (slot & 1)] = 0
             if best_axis >= 0:
                 # partition by bin; the children's boxes are the unions of their bins
                 a = best_axis
@@ -346,41 +446,59 @@ def build_bvh(v0, v1, v2, tris, tv0, te1, te2):
                 st_c[sp, 6 + q] = nodes[rec, q]
             sp += 1
 
-    # triangles in leaf order (lo and hi are no longer needed): the corners for traversal,
-    # the first corner and the exact edges for shading
+    # triangles in leaf order (lo and hi are no longer needed): the first corner and the
+    # exact edges for shading
     for k in range(n_tri):
         p = prims[k]
         for q in range(3):
             a32 = np.float32(v0[p, q]); b32 = np.float32(v1[p, q]); c32 = np.float32(v2[p, q])
-            tris[k, q] = a32; tris[k, 3 + q] = b32; tris[k, 6 + q] = c32
             tv0[k, q] = a32
             te1[k, q] = np.float64(b32) - np.float64(a32)
             te2[k, q] = np.float64(c32) - np.float64(a32)
-    return nodes[:n_rec], prims, bad
+    # the corners for traversal: each leaf's blocks, lane by lane; padding lanes are a
+    # triangle with three equal corners (determinant 0: never hit) and index -1
+    b = 0
+    for f in range(n_leaf):
+        s = leaf_s[f]
+        n = leaf_n[f]
+        for j in range(n_blocks(n) * BLOCK):
+            ln = j % BLOCK
+            if j < n:
+                p = prims[s + j]
+                tri_ids[b, PRIM_COL + ln] = s + j
+                for q in range(3):
+                    tris[b, q * BLOCK + ln] = np.float32(v0[p, q])
+                    tris[b, (3 + q) * BLOCK + ln] = np.float32(v1[p, q])
+                    tris[b, (6 + q) * BLOCK + ln] = np.float32(v2[p, q])
+            else:
+                tri_ids[b, PRIM_COL + ln] = -1
+                for q in range(9):
+                    tris[b, q * BLOCK + ln] = 0.0
+            if ln == BLOCK - 1:
+                b += 1
+    nodes4, n4 = _collapse(nodes, links, n_rec)
+    return nodes4[:n4], prims, bad, n_blk
 
 
 @inline
-def _slab(ox, oy, oz, ix, iy, iz, nodes, rec, nx, ny, nz, fx, fy, fz, tmax):
-    """Entry distance of the ray into the box whose near planes are ``nodes[rec, nx]``,
-    ``[rec, ny]``, ``[rec, nz]`` and far planes ``[rec, fx]`` ... (``_planes``: chosen once
-    per ray by the direction's signs, so no per-axis min/max), within [0, tmax]; inf if
-    it misses. Indices are unsigned (``uidx``): no negative-index wraparound."""
-    tn = max(max((nodes[rec, nx] - ox) * ix, (nodes[rec, ny] - oy) * iy), max((nodes[rec, nz] - oz) * iz, 0.0))
-    tf = min(min((nodes[rec, fx] - ox) * ix, (nodes[rec, fy] - oy) * iy), min((nodes[rec, fz] - oz) * iz, tmax))
-    if tn <= tf:
-        return tn
-    return np.inf
-
-
-@inline
-def _planes(ix, iy, iz, o):
-    """Columns of the near and far planes of the box at column ``o`` of a record for a ray
-    with inverse direction (ix, iy, iz): the low plane is the near one along a positive
-    component (then (lo - o) / d <= (hi - o) / d), the high plane along a negative one."""
-    nx = o if ix >= 0.0 else o + 3
-    ny = o + 1 if iy >= 0.0 else o + 4
-    nz = o + 2 if iz >= 0.0 else o + 5
-    return uidx(nx), uidx(ny), uidx(nz), uidx(2 * o + 3 - nx), uidx(2 * o + 5 - ny), uidx(2 * o + 7 - nz)
+def _planes4(ix, iy, iz):
+    """First columns of the near and far planes of a record's boxes along x, y, z for a
+    ray with inverse direction (ix, iy, iz): the low plane is the near one along a
+    positive component (then (lo - o) / d <= (hi - o) / d), the high plane along a
+    negative one. Chosen once per ray, so the slab test needs no per-axis min/max."""
+    if ix >= 0.0:
+        nx = uidx(C_BOX); fx = uidx(C_BOX + 12)
+    else:
+        nx = uidx(C_BOX + 12); fx = uidx(C_BOX)
+    if iy >= 0.0:
+        ny = uidx(C_BOX + 4); fy = uidx(C_BOX + 16)
+    else:
+        ny = uidx(C_BOX + 16); fy = uidx(C_BOX + 4)
+    if iz >= 0.0:
+        nz = uidx(C_BOX + 8); fz = uidx(C_BOX + 20)
+    else:
+        nz = uidx(C_BOX + 20); fz = uidx(C_BOX + 8)
+    return nx, ny, nz, fx, fy, fz
 
 
 @inline
@@ -432,32 +550,34 @@ def ray_constants(ox, oy, oz, dx, dy, dz):
 
 
 @inline
-def intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, tris, p, tmin, tmax):
+def intersect_lane(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, blk, lane, tmin, tmax):
     """Watertight ray/triangle test (Woop, Benthin, Wald, JCGT 2(1), 2013) in float64.
 
-    ``okx, oky, okz`` are the ray origin's coordinates on the axes of ``ray_setup``;
-    ``tris[p]`` holds the float32 corners v0, v1, v2 (9 values). The corners, exact in
-    float64, are moved to the ray origin and sheared so the ray runs along +z; the signs
-    of the three edge functions decide the hit, and a shared edge gets the same edge
-    function (negated) in both its triangles, so no ray slips between them. Returns
-    (t, u, v) with u, v the weights of v1, v2; t = inf on a miss.
+    ``okx, oky, okz`` are the ray origin's coordinates on the axes of ``ray_setup``
+    (``ukx, uky, ukz``, unsigned); the triangle is lane ``lane`` of block ``blk`` of
+    ``tris`` (float32 corners, see the module docstring). The corners, exact in float64,
+    are moved to the ray origin and sheared so the ray runs along +z; the signs of the
+    three edge functions decide the hit, and a shared edge gets the same edge function
+    (negated) in both its triangles, so no ray slips between them. Returns (t, u, v)
+    with u, v the weights of v1, v2; t = inf on a miss. ``simd.hit4`` computes the same
+    edge functions for the four lanes of a block at once, so the traversal calls this
+    only for the lanes it reports.
     """
-    q = uidx(p)
-    ux = uidx(kx); uy = uidx(ky); uz = uidx(kz)
-    c3 = uidx(3)
-    c6 = uidx(6)
-    paz = np.float64(tris[q, uz])
-    pbz = np.float64(tris[q, c3 + uz])
-    pcz = np.float64(tris[q, c6 + uz])
-    az = paz - okz
-    ax = (np.float64(tris[q, ux]) - okx) - sx * az
-    ay = (np.float64(tris[q, uy]) - oky) - sy * az
-    bz = pbz - okz
-    bx = (np.float64(tris[q, c3 + ux]) - okx) - sx * bz
-    by = (np.float64(tris[q, c3 + uy]) - oky) - sy * bz
-    cz = pcz - okz
-    cx = (np.float64(tris[q, c6 + ux]) - okx) - sx * cz
-    cy = (np.float64(tris[q, c6 + uy]) - oky) - sy * cz
+    q = uidx(blk)
+    ln = uidx(lane)
+    c4 = uidx(BLOCK)
+    ox_ = ukx * c4 + ln; oy_ = uky * c4 + ln; oz_ = ukz * c4 + ln
+    c12 = uidx(3 * BLOCK)
+    c24 = uidx(6 * BLOCK)
+    az = np.float64(tris[q, oz_]) - okz
+    ax = (np.float64(tris[q, ox_]) - okx) - sx * az
+    ay = (np.float64(tris[q, oy_]) - oky) - sy * az
+    bz = np.float64(tris[q, c12 + oz_]) - okz
+    bx = (np.float64(tris[q, c12 + ox_]) - okx) - sx * bz
+    by = (np.float64(tris[q, c12 + oy_]) - oky) - sy * bz
+    cz = np.float64(tris[q, c24 + oz_]) - okz
+    cx = (np.float64(tris[q, c24 + ox_]) - okx) - sx * cz
+    cy = (np.float64(tris[q, c24 + oy_]) - oky) - sy * cz
     u = cx * by - cy * bx
     v = ax * cy - ay * cx
     w = bx * ay - by * ax
@@ -471,6 +591,59 @@ def intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, tris, p, tmin, tma
     if not (t > tmin and t < tmax):
         return np.inf, 0.0, 0.0
     return t, v / det, w / det
+
+
+@inline
+def _lowest(m):
+    """Index of the lowest set bit of a 4-bit lane mask (m != 0)."""
+    if m & 1:
+        return 0
+    if m & 2:
+        return 1
+    if m & 4:
+        return 2
+    return 3
+
+
+@inline
+def n_blocks(cnt):
+    """Blocks of a leaf of ``cnt`` triangles (BLOCK = 4)."""
+    return (cnt + 3) >> 2
+
+
+@inline
+def leaf_closest(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, tri_ids, ref, cnt, tmin, best_t, best_p, best_u, best_v):
+    """The closest hit so far (t, prim, u, v) after testing the leaf whose blocks start at
+    ``ref`` (``cnt`` triangles): the blocks' masks from ``hit4``, then the scalar test of
+    the lanes set, in lane order (so ties go to the first triangle, as one by one)."""
+    for b in range(ref, ref + n_blocks(cnt)):
+        ub = uidx(b)
+        m = hit4(tris, ub, ukx, uky, ukz, okx, oky, okz, sx, sy)
+        while m != 0:
+            ln = _lowest(m)
+            m &= m - 1
+            t, u, v = intersect_lane(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, ub, ln, tmin, best_t)
+            if t < best_t:
+                best_t = t
+                best_p = tri_ids[ub, uidx(PRIM_COL + ln)]
+                best_u = u
+                best_v = v
+    return best_t, best_p, best_u, best_v
+
+
+@inline
+def leaf_any(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, ref, cnt, tmin, tmax):
+    """True if a triangle of the leaf at blocks ``ref`` (``cnt`` triangles) is hit in (tmin, tmax)."""
+    for b in range(ref, ref + n_blocks(cnt)):
+        ub = uidx(b)
+        m = hit4(tris, ub, ukx, uky, ukz, okx, oky, okz, sx, sy)
+        while m != 0:
+            ln = _lowest(m)
+            m &= m - 1
+            t, u, v = intersect_lane(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, ub, ln, tmin, tmax)
+            if t < np.inf:
+                return True
+    return False
 
 
 @inline
@@ -500,83 +673,136 @@ def _below(t):
 
 @inline
 def _prefetch_child(nodes, tris, ref, cnt):
-    """Start loading a child the traversal will visit later: its record, or its leaf's
-    triangle rows (36 bytes each, so every line of the run gets one)."""
+    """Start loading a child the traversal will visit later: its record (two lines) or
+    every line of its leaf's blocks."""
     if cnt == 0:
-        prefetch(nodes, ref)
+        prefetch_lines(nodes, ref)
     else:
-        for k in range(ref, ref + cnt):
-            prefetch(tris, k)
+        for b in range(ref, ref + n_blocks(cnt)):
+            prefetch_lines(tris, b)
+
+
+@inline
+def _push(stack, fstack, sp, links, rec, c, t):
+    """Push child ``c`` of record ``rec`` (reference, count, entry distance rounded down to
+    float32) if the ray enters its box (t < inf)."""
+    if t < np.inf:
+        stack[sp] = links[rec, uidx(C_REF + c)]
+        stack[sp + _U1] = links[rec, uidx(C_CNT + c)]
+        fstack[sp + _U2] = _below(t)
+        return sp + _U3
+    return sp
+
+
+@inline
+def _visit_record(nodes, links, tris, rec, ox, oy, oz, ix, iy, iz, nx, ny, nz, fx, fy, fz, tmax, stack, fstack, sp,
+                  nearest):
+    """The children of record ``rec`` the ray enters before ``tmax`` (``simd.slab4``):
+    pushed, and then, if ``nearest``, ordered so the nearest is on top (insertion sort of
+    at most four entries), else left in child order. Children the ray is to visit later
+    are prefetched. Returns the new stack pointer."""
+    t0, t1, t2, t3 = slab4(nodes, rec, nx, ny, nz, fx, fy, fz, ox, oy, oz, ix, iy, iz, tmax)
+    base = sp
+    sp = _push(stack, fstack, sp, links, rec, 0, t0)
+    sp = _push(stack, fstack, sp, links, rec, 1, t1)
+    sp = _push(stack, fstack, sp, links, rec, 2, t2)
+    sp = _push(stack, fstack, sp, links, rec, 3, t3)
+    if nearest and sp > base + _U3:
+        # far to near from the bottom up, so the nearest is popped first
+        i = base + _U3
+        while i < sp:
+            r = stack[i]; c = stack[i + _U1]; d = fstack[i + _U2]
+            j = i
+            while j > base and fstack[j - _U1] < d:
+                stack[j] = stack[j - _U3]; stack[j + _U1] = stack[j - _U2]; fstack[j + _U2] = fstack[j - _U1]
+                j -= _U3
+            stack[j] = r; stack[j + _U1] = c; fstack[j + _U2] = d
+            i += _U3
+    if sp > base + _U3:
+        k = base
+        while k < sp - _U3:
+            _prefetch_child(nodes, tris, stack[k], stack[k + _U1])
+            k += _U3
+    return sp
+
+
+@inline
+def _closest_step(rf, ru, tmin, nodes, links, tris, tri_ids, stack, fstack, ref, cnt, sp, best_t, best_p, best_u,
+                  best_v):
+    """One step of ``closest_hit``: visit the record or leaf (ref, cnt), then pop the next
+    child whose box starts within the best hit so far. ``rf``, ``ru`` are the ray's
+    constants (``_ray_tuples``; tuples keep the call under CPython's 30 arguments, beyond
+    which it becomes a ``*args`` call numba cannot inline). Returns the new state (ref,
+    cnt, sp, best_t, best_p, best_u, best_v) and whether there is a next child."""
+    ox, oy, oz, ix, iy, iz, sx, sy, sz, okx, oky, okz = rf
+    ukx, uky, ukz, nx, ny, nz, fx, fy, fz = ru
+    if cnt == 0:
+        sp = _visit_record(nodes, links, tris, uidx(ref), ox, oy, oz, ix, iy, iz, nx, ny, nz, fx, fy, fz, best_t,
+                           stack, fstack, sp, True)
+    else:
+        best_t, best_p, best_u, best_v = leaf_closest(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, tri_ids,
+                                                      ref, cnt, tmin, best_t, best_p, best_u, best_v)
+    while sp > _U0:
+        sp -= _U3
+        if fstack[sp + _U2] <= best_t:
+            return stack[sp], stack[sp + _U1], sp, best_t, best_p, best_u, best_v, True
+    return ref, cnt, sp, best_t, best_p, best_u, best_v, False
+
+
+@inline
+def _occluded_step(rf, ru, tmin, tmax, nodes, links, tris, stack, fstack, ref, cnt, sp):
+    """One step of ``occluded``: visit the record or leaf (ref, cnt), then pop the next
+    child. Returns (ref, cnt, sp, state): state 1 a hit (the answer is True), 0 no child
+    left (False), 2 go on. ``rf``, ``ru`` as in ``_closest_step``."""
+    ox, oy, oz, ix, iy, iz, sx, sy, sz, okx, oky, okz = rf
+    ukx, uky, ukz, nx, ny, nz, fx, fy, fz = ru
+    if cnt == 0:
+        sp = _visit_record(nodes, links, tris, uidx(ref), ox, oy, oz, ix, iy, iz, nx, ny, nz, fx, fy, fz, tmax,
+                           stack, fstack, sp, False)
+    elif leaf_any(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, ref, cnt, tmin, tmax):
+        return ref, cnt, sp, 1
+    if sp == _U0:
+        return ref, cnt, sp, 0
+    sp -= _U3
+    return stack[sp], stack[sp + _U1], sp, 2
+
+
+@inline
+def _ray_tuples(ox, oy, oz, dx, dy, dz):
+    """A ray's traversal constants as two tuples: floats (origin, inverse direction,
+    shear, origin on the shear axes) and unsigned integers (the shear axes, the near
+    and far plane columns of ``_planes4``)."""
+    ix, iy, iz, kx, ky, kz, sx, sy, sz, okx, oky, okz = ray_constants(ox, oy, oz, dx, dy, dz)
+    nx, ny, nz, fx, fy, fz = _planes4(ix, iy, iz)
+    return (ox, oy, oz, ix, iy, iz, sx, sy, sz, okx, oky, okz), (uidx(kx), uidx(ky), uidx(kz), nx, ny, nz, fx, fy, fz)
 
 
 @inline
 def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     """Closest triangle hit in (tmin, tmax). Returns (t, prim, u, v); prim = -1 on a miss.
 
-    Front-to-back: of two children hit, the nearer is visited first and the other pushed
-    with its reference, count and entry distance (rounded down to float32), so a pop reads
-    no node; a popped child is skipped when its box starts beyond the best hit by then.
+    Front-to-back: of the children of a record the ray enters, all are pushed with their
+    reference, count and entry distance (rounded down to float32), nearest on top, so a
+    pop reads no record; a popped child is skipped when its box starts beyond the best
+    hit by then.
     """
     if tris.shape[0] == 0:
         return np.inf, -1, 0.0, 0.0
     links = nodes.view(np.int32)
+    tri_ids = tris.view(np.int32)
     fstack = stack.view(np.float32)
-    ix, iy, iz, kx, ky, kz, sx, sy, sz, okx, oky, okz = ray_constants(ox, oy, oz, dx, dy, dz)
-    lnx, lny, lnz, lfx, lfy, lfz = _planes(ix, iy, iz, 0)
-    rnx, rny, rnz, rfx, rfy, rfz = _planes(ix, iy, iz, 6)
+    rf, ru = _ray_tuples(ox, oy, oz, dx, dy, dz)
     best_t = tmax
     best_p = -1
     best_u = 0.0
     best_v = 0.0
     sp = _U0
-    ref = 0  # the child being entered: a record (cnt == 0) or a leaf's triangle range
+    ref = 0  # the child being entered: a record (cnt == 0) or a leaf's blocks
     cnt = 0
-    while True:
-        if cnt == 0:
-            uref = uidx(ref)
-            tl = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, lnx, lny, lnz, lfx, lfy, lfz, best_t)
-            tr = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, rnx, rny, rnz, rfx, rfy, rfz, best_t)
-            if tl < np.inf:
-                if tr < tl:
-                    stack[sp] = links[uref, L_REF]
-                    stack[sp + _U1] = links[uref, L_CNT]
-                    fstack[sp + _U2] = _below(tl)
-                    _prefetch_child(nodes, tris, stack[sp], stack[sp + _U1])
-                    sp += _U3
-                    cnt = links[uref, R_CNT]
-                    ref = links[uref, R_REF]
-                else:
-                    if tr < np.inf:
-                        stack[sp] = links[uref, R_REF]
-                        stack[sp + _U1] = links[uref, R_CNT]
-                        fstack[sp + _U2] = _below(tr)
-                        _prefetch_child(nodes, tris, stack[sp], stack[sp + _U1])
-                        sp += _U3
-                    cnt = links[uref, L_CNT]
-                    ref = links[uref, L_REF]
-                continue
-            elif tr < np.inf:
-                cnt = links[uref, R_CNT]
-                ref = links[uref, R_REF]
-                continue
-        else:
-            for k in range(ref, ref + cnt):
-                t, u, v = intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, tris, k, tmin, best_t)
-                if t < best_t:
-                    best_t = t
-                    best_p = k
-                    best_u = u
-                    best_v = v
-        found = False
-        while sp > _U0:
-            sp -= _U3
-            if fstack[sp + _U2] <= best_t:
-                ref = stack[sp]
-                cnt = stack[sp + _U1]
-                found = True
-                break
-        if not found:
-            break
+    going = True
+    while going:
+        ref, cnt, sp, best_t, best_p, best_u, best_v, going = _closest_step(
+            rf, ru, tmin, nodes, links, tris, tri_ids, stack, fstack, ref, cnt, sp, best_t, best_p, best_u, best_v)
     if best_p < 0:
         return np.inf, -1, 0.0, 0.0
     return best_t, best_p, best_u, best_v
@@ -584,60 +810,21 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
 
 @inline
 def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
-    """True if any triangle is hit in (tmin, tmax); any hit ends it.
-
-    Of two children hit, the *farther* is visited first (the other pushed as reference and
-    count). A shadow ray starts on a surface, inside the boxes of that surface's own
-    neighbourhood (entry distance 0), which a ray leaving the surface rarely hits again;
-    its blocker is more often in a box it enters later. On the scale benchmark's shadow
-    rays this visits 1.4 % (1 M triangles) and 3.7 % (16 M) fewer records and 7 and 9 %
-    fewer triangles than nearer-first. The answer does not depend on the order.
-    """
+    """True if any triangle is hit in (tmin, tmax); any hit ends it. Children are visited
+    in the order popped (the last of a record's children first); the answer does not
+    depend on the order."""
     if tris.shape[0] == 0:
         return False
     links = nodes.view(np.int32)
-    ix, iy, iz, kx, ky, kz, sx, sy, sz, okx, oky, okz = ray_constants(ox, oy, oz, dx, dy, dz)
-    lnx, lny, lnz, lfx, lfy, lfz = _planes(ix, iy, iz, 0)
-    rnx, rny, rnz, rfx, rfy, rfz = _planes(ix, iy, iz, 6)
+    fstack = stack.view(np.float32)
+    rf, ru = _ray_tuples(ox, oy, oz, dx, dy, dz)
     sp = _U0
     ref = 0
     cnt = 0
-    while True:
-        if cnt == 0:
-            uref = uidx(ref)
-            tl = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, lnx, lny, lnz, lfx, lfy, lfz, tmax)
-            tr = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, rnx, rny, rnz, rfx, rfy, rfz, tmax)
-            if tl < np.inf:
-                if tl < tr < np.inf:  # the farther child first (see the docstring)
-                    stack[sp] = links[uref, L_REF]
-                    stack[sp + _U1] = links[uref, L_CNT]
-                    _prefetch_child(nodes, tris, stack[sp], stack[sp + _U1])
-                    sp += _U2
-                    cnt = links[uref, R_CNT]
-                    ref = links[uref, R_REF]
-                else:
-                    if tr < np.inf:
-                        stack[sp] = links[uref, R_REF]
-                        stack[sp + _U1] = links[uref, R_CNT]
-                        _prefetch_child(nodes, tris, stack[sp], stack[sp + _U1])
-                        sp += _U2
-                    cnt = links[uref, L_CNT]
-                    ref = links[uref, L_REF]
-                continue
-            elif tr < np.inf:
-                cnt = links[uref, R_CNT]
-                ref = links[uref, R_REF]
-                continue
-        else:
-            for k in range(ref, ref + cnt):
-                t, u, v = intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, tris, k, tmin, tmax)
-                if t < np.inf:
-                    return True
-        if sp == _U0:
-            return False
-        sp -= _U2
-        ref = stack[sp]
-        cnt = stack[sp + _U1]
+    state = 2
+    while state == 2:
+        ref, cnt, sp, state = _occluded_step(rf, ru, tmin, tmax, nodes, links, tris, stack, fstack, ref, cnt, sp)
+    return state == 1
 
 
 @function
@@ -660,27 +847,130 @@ CHUNK = 2048  # rays per parallel work item of the batch kernels
 
 @inline
 def _start_lane(orig, dirs, i, lane, lf, lk):
-    """Load ray ``i``'s constants into lane ``lane``: ``lf`` origin, inverse direction,
-    shear, origin on the shear axes; ``lk`` the axes (see ``ray_setup``)."""
-    ox = orig[i, 0]; oy = orig[i, 1]; oz = orig[i, 2]
-    ix, iy, iz, kx, ky, kz, sx, sy, sz, okx, oky, okz = ray_constants(ox, oy, oz, dirs[i, 0], dirs[i, 1], dirs[i, 2])
-    lf[lane, 0] = ox; lf[lane, 1] = oy; lf[lane, 2] = oz
-    lf[lane, 3] = ix; lf[lane, 4] = iy; lf[lane, 5] = iz
-    lf[lane, 6] = sx; lf[lane, 7] = sy; lf[lane, 8] = sz
-    lf[lane, 9] = okx; lf[lane, 10] = oky; lf[lane, 11] = okz
-    lk[lane, 0] = kx; lk[lane, 1] = ky; lk[lane, 2] = kz
+    """Load ray ``i``'s constants (``_ray_tuples``) into lane ``lane``: ``lf`` the floats,
+    ``lk`` the unsigned integers."""
+    rf, ru = _ray_tuples(orig[i, 0], orig[i, 1], orig[i, 2], dirs[i, 0], dirs[i, 1], dirs[i, 2])
+    ox, oy, oz, ix, iy, iz, sx, sy, sz, okx, oky, okz = rf
+    ukx, uky, ukz, nx, ny, nz, fx, fy, fz = ru
+    lf[lane, 0] = ox; lf[lane, 1] = oy; lf[lane, 2] = oz; lf[lane, 3] = ix; lf[lane, 4] = iy; lf[lane, 5] = iz
+    lf[lane, 6] = sx; lf[lane, 7] = sy; lf[lane, 8] = sz; lf[lane, 9] = okx; lf[lane, 10] = oky; lf[lane, 11] = okz
+    lk[lane, 0] = ukx; lk[lane, 1] = uky; lk[lane, 2] = ukz
+    lk[lane, 3] = nx; lk[lane, 4] = ny; lk[lane, 5] = nz; lk[lane, 6] = fx; lk[lane, 7] = fy; lk[lane, 8] = fz
+
+
+@inline
+def _lane_f(lf, j):
+    """Lane ``j``'s float constants, the tuple ``_ray_tuples`` made."""
+    return (lf[j, 0], lf[j, 1], lf[j, 2], lf[j, 3], lf[j, 4], lf[j, 5], lf[j, 6], lf[j, 7], lf[j, 8], lf[j, 9],
+            lf[j, 10], lf[j, 11])
+
+
+@inline
+def _lane_u(lk, j):
+    """Lane ``j``'s integer constants, the tuple ``_ray_tuples`` made."""
+    return (lk[j, 0], lk[j, 1], lk[j, 2], lk[j, 3], lk[j, 4], lk[j, 5], lk[j, 6], lk[j, 7], lk[j, 8])
+
+
+@function
+def _closest_lanes(orig, dirs, tmax, nodes, tris, lo, hi, t_out, p_out, stacks, lf, lk, l_ray, l_ref, l_cnt, l_sp, l_t,
+                   l_p):
+    """Closest hits of rays [lo, hi), ``LANES`` in flight (see ``trace_closest_batch``);
+    the other arguments are the caller's scratch. A function of its own: numba's parallel
+    array analysis cannot follow the lanes' tuples inside a prange body."""
+    links = nodes.view(np.int32)
+    tri_ids = tris.view(np.int32)
+    fstacks = stacks.view(np.float32)
+    nxt = lo
+    active = 0
+    for j in range(LANES):
+        l_ref[j] = 0; l_cnt[j] = 0; l_sp[j] = 0
+        if nxt < hi:
+            _start_lane(orig, dirs, nxt, j, lf, lk)
+            l_ray[j] = nxt; l_t[j] = tmax[nxt]; l_p[j] = -1
+            nxt += 1
+            active += 1
+        else:
+            l_ray[j] = -1
+    j = 0
+    while active > 0:
+        if l_ray[j] >= 0:
+            ref, cnt, sp, best_t, best_p, u, v, going = _closest_step(
+                _lane_f(lf, j), _lane_u(lk, j), 0.0, nodes, links, tris, tri_ids, stacks[j], fstacks[j],
+                l_ref[j], l_cnt[j], l_sp[j], l_t[j], l_p[j], 0.0, 0.0)
+            if going:
+                _prefetch_child(nodes, tris, ref, cnt)
+                l_ref[j] = ref; l_cnt[j] = cnt; l_sp[j] = sp; l_t[j] = best_t; l_p[j] = best_p
+            else:
+                i = l_ray[j]
+                if best_p < 0:
+                    t_out[i] = np.inf
+                    p_out[i] = -1
+                else:
+                    t_out[i] = best_t
+                    p_out[i] = best_p
+                l_ref[j] = 0; l_cnt[j] = 0; l_sp[j] = 0
+                if nxt < hi:
+                    _start_lane(orig, dirs, nxt, j, lf, lk)
+                    l_ray[j] = nxt; l_t[j] = tmax[nxt]; l_p[j] = -1
+                    nxt += 1
+                else:
+                    l_ray[j] = -1
+                    active -= 1
+        j += 1
+        if j == LANES:
+            j = 0
+
+
+@function
+def _occluded_lanes(orig, dirs, tmax, nodes, tris, lo, hi, out, stacks, lf, lk, l_ray, l_ref, l_cnt, l_sp):
+    """Any-hit answers of rays [lo, hi), ``LANES`` in flight (see ``_closest_lanes``)."""
+    links = nodes.view(np.int32)
+    fstacks = stacks.view(np.float32)
+    nxt = lo
+    active = 0
+    for j in range(LANES):
+        l_ref[j] = 0; l_cnt[j] = 0; l_sp[j] = 0
+        if nxt < hi:
+            _start_lane(orig, dirs, nxt, j, lf, lk)
+            l_ray[j] = nxt
+            nxt += 1
+            active += 1
+        else:
+            l_ray[j] = -1
+    j = 0
+    while active > 0:
+        i = l_ray[j]
+        if i >= 0:
+            ref, cnt, sp, state = _occluded_step(_lane_f(lf, j), _lane_u(lk, j), 0.0, tmax[i], nodes, links, tris,
+                                                 stacks[j], fstacks[j], l_ref[j], l_cnt[j], l_sp[j])
+            if state == 2:
+                _prefetch_child(nodes, tris, ref, cnt)
+                l_ref[j] = ref; l_cnt[j] = cnt; l_sp[j] = sp
+            else:
+                out[i] = state == 1
+                l_ref[j] = 0; l_cnt[j] = 0; l_sp[j] = 0
+                if nxt < hi:
+                    _start_lane(orig, dirs, nxt, j, lf, lk)
+                    l_ray[j] = nxt
+                    nxt += 1
+                else:
+                    l_ray[j] = -1
+                    active -= 1
+        j += 1
+        if j == LANES:
+            j = 0
 
 
 @kernel(parallel=True)
 def trace_closest_batch(orig, dirs, tmax, nodes, tris):
     """Closest hits of a batch of rays. Returns t (inf on a miss) and prim (leaf order, -1).
 
-    Each ray takes the same path through the tree as ``closest_hit`` (so the same hit),
-    but a thread traces ``LANES`` rays at once, round robin, one step each (a record's two
-    boxes, or a leaf's triangles, then the choice of the next child or pop): a step ends
-    by prefetching what that ray reads next, and by the time its turn comes again the line
-    has arrived. On scenes far larger than the caches the memory latency of one ray's
-    chain of node visits is then overlapped with the other rays' work.
+    Each ray takes the same path through the tree as ``closest_hit`` (the same step
+    function, so the same hit), but a thread traces ``LANES`` rays at once, round robin,
+    one step each (a record's children, or a leaf's blocks, then the next child): a step
+    ends by prefetching what that ray reads next, and by the time its turn comes again
+    the lines have arrived. On scenes far larger than the caches the memory latency of
+    one ray's chain of record visits is then overlapped with the other rays' work.
     """
     n = orig.shape[0]
     t_out = np.empty(n)
@@ -690,200 +980,31 @@ def trace_closest_batch(orig, dirs, tmax, nodes, tris):
             t_out[i] = np.inf
             p_out[i] = -1
         return t_out, p_out
-    links = nodes.view(np.int32)
     n_chunks = (n + CHUNK - 1) // CHUNK
     for c in prange(n_chunks):
         lo = c * CHUNK
         hi = min(n, lo + CHUNK)
-        stacks = np.empty((LANES, STACK_SIZE), np.int32)
-        fstacks = stacks.view(np.float32)
-        lf = np.empty((LANES, 12))
-        lk = np.empty((LANES, 3), np.int64)
-        l_ray = np.empty(LANES, np.int64)
-        l_ref = np.zeros(LANES, np.int64)
-        l_cnt = np.zeros(LANES, np.int64)
-        l_sp = np.zeros(LANES, np.int64)
-        l_t = np.empty(LANES)
-        l_p = np.empty(LANES, np.int64)
-        nxt = lo
-        active = 0
-        for j in range(LANES):
-            if nxt < hi:
-                _start_lane(orig, dirs, nxt, j, lf, lk)
-                l_ray[j] = nxt; l_t[j] = tmax[nxt]; l_p[j] = -1
-                nxt += 1
-                active += 1
-            else:
-                l_ray[j] = -1
-        j = 0
-        while active > 0:
-            if l_ray[j] >= 0:
-                ref = l_ref[j]; cnt = l_cnt[j]; sp = l_sp[j]; best_t = l_t[j]
-                ox = lf[j, 0]; oy = lf[j, 1]; oz = lf[j, 2]
-                ix = lf[j, 3]; iy = lf[j, 4]; iz = lf[j, 5]
-                moved = False
-                if cnt == 0:
-                    uref = uidx(ref)
-                    lnx, lny, lnz, lfx, lfy, lfz = _planes(ix, iy, iz, 0)
-                    rnx, rny, rnz, rfx, rfy, rfz = _planes(ix, iy, iz, 6)
-                    tl = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, lnx, lny, lnz, lfx, lfy, lfz, best_t)
-                    tr = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, rnx, rny, rnz, rfx, rfy, rfz, best_t)
-                    if tl < np.inf:
-                        if tr < tl:
-                            stacks[j, sp] = links[uref, L_REF]
-                            stacks[j, sp + 1] = links[uref, L_CNT]
-                            fstacks[j, sp + 2] = _below(tl)
-                            sp += 3
-                            cnt = links[uref, R_CNT]
-                            ref = links[uref, R_REF]
-                        else:
-                            if tr < np.inf:
-                                stacks[j, sp] = links[uref, R_REF]
-                                stacks[j, sp + 1] = links[uref, R_CNT]
-                                fstacks[j, sp + 2] = _below(tr)
-                                sp += 3
-                            cnt = links[uref, L_CNT]
-                            ref = links[uref, L_REF]
-                        moved = True
-                    elif tr < np.inf:
-                        cnt = links[uref, R_CNT]
-                        ref = links[uref, R_REF]
-                        moved = True
-                else:
-                    kx = lk[j, 0]; ky = lk[j, 1]; kz = lk[j, 2]
-                    sx = lf[j, 6]; sy = lf[j, 7]; sz = lf[j, 8]
-                    okx = lf[j, 9]; oky = lf[j, 10]; okz = lf[j, 11]
-                    for k in range(ref, ref + cnt):
-                        t, u, v = intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, tris, k, 0.0, best_t)
-                        if t < best_t:
-                            best_t = t
-                            l_p[j] = k
-                if not moved:
-                    while sp > 0:
-                        sp -= 3
-                        if fstacks[j, sp + 2] <= best_t:
-                            ref = stacks[j, sp]
-                            cnt = stacks[j, sp + 1]
-                            moved = True
-                            break
-                if moved:
-                    _prefetch_child(nodes, tris, ref, cnt)
-                    l_ref[j] = ref; l_cnt[j] = cnt; l_sp[j] = sp; l_t[j] = best_t
-                else:
-                    i = l_ray[j]
-                    if l_p[j] < 0:
-                        t_out[i] = np.inf
-                        p_out[i] = -1
-                    else:
-                        t_out[i] = best_t
-                        p_out[i] = l_p[j]
-                    l_ref[j] = 0; l_cnt[j] = 0; l_sp[j] = 0
-                    if nxt < hi:
-                        _start_lane(orig, dirs, nxt, j, lf, lk)
-                        l_ray[j] = nxt; l_t[j] = tmax[nxt]; l_p[j] = -1
-                        nxt += 1
-                    else:
-                        l_ray[j] = -1
-                        active -= 1
-            j += 1
-            if j == LANES:
-                j = 0
+        _closest_lanes(orig, dirs, tmax, nodes, tris, lo, hi, t_out, p_out, np.empty((LANES, STACK_SIZE), np.int32),
+                       np.empty((LANES, 12)), np.empty((LANES, 9), np.uint64), np.empty(LANES, np.int64),
+                       np.empty(LANES, np.int64), np.empty(LANES, np.int64), np.empty(LANES, np.uint64),
+                       np.empty(LANES), np.empty(LANES, np.int64))
     return t_out, p_out
 
 
 @kernel(parallel=True)
 def trace_occluded_batch(orig, dirs, tmax, nodes, tris):
     """Any-hit queries of a batch of segments (origin, unit direction, length): each ray
-    as in ``occluded``, ``LANES`` of them in flight per thread (see ``trace_closest_batch``)."""
+    as in ``occluded`` (the same step function), ``LANES`` of them in flight per thread
+    (see ``trace_closest_batch``)."""
     n = orig.shape[0]
     out = np.zeros(n, np.bool_)
     if tris.shape[0] == 0:
         return out
-    links = nodes.view(np.int32)
     n_chunks = (n + CHUNK - 1) // CHUNK
     for c in prange(n_chunks):
         lo = c * CHUNK
         hi = min(n, lo + CHUNK)
-        stacks = np.empty((LANES, STACK_SIZE), np.int32)
-        lf = np.empty((LANES, 12))
-        lk = np.empty((LANES, 3), np.int64)
-        l_ray = np.empty(LANES, np.int64)
-        l_ref = np.zeros(LANES, np.int64)
-        l_cnt = np.zeros(LANES, np.int64)
-        l_sp = np.zeros(LANES, np.int64)
-        nxt = lo
-        active = 0
-        for j in range(LANES):
-            if nxt < hi:
-                _start_lane(orig, dirs, nxt, j, lf, lk)
-                l_ray[j] = nxt
-                nxt += 1
-                active += 1
-            else:
-                l_ray[j] = -1
-        j = 0
-        while active > 0:
-            i = l_ray[j]
-            if i >= 0:
-                ref = l_ref[j]; cnt = l_cnt[j]; sp = l_sp[j]
-                tm = tmax[i]
-                moved = False
-                hit = False
-                if cnt == 0:
-                    uref = uidx(ref)
-                    ox = lf[j, 0]; oy = lf[j, 1]; oz = lf[j, 2]
-                    ix = lf[j, 3]; iy = lf[j, 4]; iz = lf[j, 5]
-                    lnx, lny, lnz, lfx, lfy, lfz = _planes(ix, iy, iz, 0)
-                    rnx, rny, rnz, rfx, rfy, rfz = _planes(ix, iy, iz, 6)
-                    tl = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, lnx, lny, lnz, lfx, lfy, lfz, tm)
-                    tr = _slab(ox, oy, oz, ix, iy, iz, nodes, uref, rnx, rny, rnz, rfx, rfy, rfz, tm)
-                    if tl < np.inf:
-                        if tl < tr < np.inf:  # the farther child first
-                            stacks[j, sp] = links[uref, L_REF]
-                            stacks[j, sp + 1] = links[uref, L_CNT]
-                            sp += 2
-                            cnt = links[uref, R_CNT]
-                            ref = links[uref, R_REF]
-                        else:
-                            if tr < np.inf:
-                                stacks[j, sp] = links[uref, R_REF]
-                                stacks[j, sp + 1] = links[uref, R_CNT]
-                                sp += 2
-                            cnt = links[uref, L_CNT]
-                            ref = links[uref, L_REF]
-                        moved = True
-                    elif tr < np.inf:
-                        cnt = links[uref, R_CNT]
-                        ref = links[uref, R_REF]
-                        moved = True
-                else:
-                    kx = lk[j, 0]; ky = lk[j, 1]; kz = lk[j, 2]
-                    sx = lf[j, 6]; sy = lf[j, 7]; sz = lf[j, 8]
-                    okx = lf[j, 9]; oky = lf[j, 10]; okz = lf[j, 11]
-                    for k in range(ref, ref + cnt):
-                        t, u, v = intersect_triangle(okx, oky, okz, kx, ky, kz, sx, sy, sz, tris, k, 0.0, tm)
-                        if t < np.inf:
-                            hit = True
-                            break
-                if not moved and not hit and sp > 0:
-                    sp -= 2
-                    ref = stacks[j, sp]
-                    cnt = stacks[j, sp + 1]
-                    moved = True
-                if moved:
-                    _prefetch_child(nodes, tris, ref, cnt)
-                    l_ref[j] = ref; l_cnt[j] = cnt; l_sp[j] = sp
-                else:
-                    out[i] = hit
-                    l_ref[j] = 0; l_cnt[j] = 0; l_sp[j] = 0
-                    if nxt < hi:
-                        _start_lane(orig, dirs, nxt, j, lf, lk)
-                        l_ray[j] = nxt
-                        nxt += 1
-                    else:
-                        l_ray[j] = -1
-                        active -= 1
-            j += 1
-            if j == LANES:
-                j = 0
+        _occluded_lanes(orig, dirs, tmax, nodes, tris, lo, hi, out, np.empty((LANES, STACK_SIZE), np.int32),
+                        np.empty((LANES, 12)), np.empty((LANES, 9), np.uint64), np.empty(LANES, np.int64),
+                        np.empty(LANES, np.int64), np.empty(LANES, np.int64), np.empty(LANES, np.uint64))
     return out

@@ -23,12 +23,37 @@ def prefetch(typingctx, arr, idx):
         ary = context.make_array(aryty)(context, builder, args[0])
         strides = cgutils.unpack_tuple(builder, ary.strides, aryty.ndim)
         i = context.cast(builder, args[1], idxty, types.intp)
-        addr = builder.add(builder.ptrtoint(ary.data, cgutils.intp_t), builder.mul(i, strides[0]))
-        i8p = ir.IntType(8).as_pointer()
-        i32 = ir.IntType(32)
-        fn = cgutils.get_or_insert_function(builder.module, ir.FunctionType(ir.VoidType(), [i8p, i32, i32, i32]),
-                                            "llvm.prefetch.p0")
-        builder.call(fn, [builder.inttoptr(addr, i8p), i32(0), i32(3), i32(1)])
+        _emit(builder, builder.add(builder.ptrtoint(ary.data, cgutils.intp_t), builder.mul(i, strides[0])))
         return context.get_dummy_value()
 
     return types.void(arr, idx), codegen
+
+
+@intrinsic
+def prefetch_lines(typingctx, arr, idx):
+    """Prefetch every cache line of row ``idx`` of a 2-d array whose rows are at most 192
+    bytes long (a leaf block of the BVH: 160 bytes, up to three or four lines)."""
+    if not isinstance(arr, types.Array) or arr.ndim != 2 or not isinstance(idx, types.Integer):
+        return None
+
+    def codegen(context, builder, sig, args):
+        aryty, idxty = sig.args
+        ary = context.make_array(aryty)(context, builder, args[0])
+        strides = cgutils.unpack_tuple(builder, ary.strides, aryty.ndim)
+        i = context.cast(builder, args[1], idxty, types.intp)
+        addr = builder.add(builder.ptrtoint(ary.data, cgutils.intp_t), builder.mul(i, strides[0]))
+        last = builder.sub(builder.add(addr, strides[0]), ir.Constant(cgutils.intp_t, 1))
+        for a in (addr, builder.add(addr, ir.Constant(cgutils.intp_t, 64)),
+                  builder.add(addr, ir.Constant(cgutils.intp_t, 128)), last):
+            _emit(builder, a)
+        return context.get_dummy_value()
+
+    return types.void(arr, idx), codegen
+
+
+def _emit(builder, addr):
+    i8p = ir.IntType(8).as_pointer()
+    i32 = ir.IntType(32)
+    fn = cgutils.get_or_insert_function(builder.module, ir.FunctionType(ir.VoidType(), [i8p, i32, i32, i32]),
+                                        "llvm.prefetch.p0")
+    builder.call(fn, [builder.inttoptr(addr, i8p), i32(0), i32(3), i32(1)])

@@ -1,0 +1,146 @@
+"""The traversal's 4-wide vector code: four ray/triangle edge tests or four slab tests at once.
+
+A leaf's triangles are stored in blocks of four (``bvh.py``: one row of ``tris`` per
+block, each corner coordinate as four consecutive float32, one per lane). ``hit4`` runs
+the watertight test of ``bvh.intersect_triangle`` on the four lanes of a block as LLVM
+``<4 x double>`` operations: the same IEEE operations in the same order as the scalar
+test, so each lane's distance is bit for bit the scalar test's. numba does not vectorize
+this itself (its SLP vectorizer is off and a four-trip loop is fully unrolled before the
+loop vectorizer runs), so the vector code is written out here as an intrinsic, compiled
+into each caller and kept by numba's on-disk cache like ``prefetch``. ``slab4`` does the
+same for the four child boxes of a BVH record.
+"""
+from llvmlite import ir
+from numba.core import cgutils, types
+from numba.extending import intrinsic
+
+BLOCK = 4  # triangles per block (lanes)
+BLOCK_COLS = 40  # float32 slots per block row: 9 coordinates x 4 lanes, then 4 int32 lane indices
+PRIM_COL = 36  # first of the four int32 slots: the lanes' leaf-order triangle index (-1: padding)
+
+_F32 = ir.FloatType()
+_F64 = ir.DoubleType()
+_V4F = ir.VectorType(_F32, BLOCK)
+_V4D = ir.VectorType(_F64, BLOCK)
+
+
+def _splat(builder, x):
+    v = ir.Constant(_V4D, ir.Undefined)
+    for k in range(BLOCK):
+        v = builder.insert_element(v, x, ir.Constant(ir.IntType(32), k))
+    return v
+
+
+@intrinsic
+def hit4(typingctx, tris, blk, ukx, uky, ukz, okx, oky, okz, sx, sy):
+    """Which of the four triangles of block ``blk`` the ray's line passes through: a
+    4-bit mask, bit k for lane k.
+
+    ``ukx, uky, ukz`` are the ray's axes (``bvh.ray_setup``) as unsigned integers,
+    ``okx ... sy`` its origin on those axes and its shear in x and y. A lane is set when its three
+    edge functions do not have mixed signs and its determinant is not 0: exactly the
+    lanes for which the scalar test goes on to compute a distance (padding lanes are
+    degenerate triangles, so never set). The distance, and whether it lies in the ray's
+    interval, is left to the scalar test of the set lanes: a ray passes through few of
+    the triangles it is tested against, so the four divisions are rarely worth doing.
+    """
+    if not isinstance(tris, types.Array) or tris.ndim != 2 or tris.dtype != types.float32:
+        return None
+    ints = (blk, ukx, uky, ukz)
+    if not all(isinstance(a, types.Integer) for a in ints):
+        return None
+    floats = (okx, oky, okz, sx, sy)
+    if not all(a == types.float64 for a in floats):
+        return None
+
+    def codegen(context, builder, sig, args):
+        aryty = sig.args[0]
+        ary = context.make_array(aryty)(context, builder, args[0])
+        strides = cgutils.unpack_tuple(builder, ary.strides, 2)
+        idx = [context.cast(builder, args[k], sig.args[k], types.intp) for k in range(1, 5)]
+        base = builder.add(builder.ptrtoint(ary.data, cgutils.intp_t), builder.mul(idx[0], strides[0]))
+        lane_bytes = ir.Constant(cgutils.intp_t, 4 * BLOCK)
+
+        def load(corner, axis):
+            col = builder.add(ir.Constant(cgutils.intp_t, 3 * corner), idx[1 + axis])
+            addr = builder.add(base, builder.mul(col, lane_bytes))
+            v = builder.load(builder.inttoptr(addr, _V4F.as_pointer()), align=4)
+            return builder.fpext(v, _V4D)
+
+        okx_, oky_, okz_, sx_, sy_ = (_splat(builder, a) for a in args[5:10])
+        fsub, fmul = builder.fsub, builder.fmul
+        sheared = []
+        for corner in range(3):
+            pz = fsub(load(corner, 2), okz_)
+            px = fsub(fsub(load(corner, 0), okx_), fmul(sx_, pz))
+            py = fsub(fsub(load(corner, 1), oky_), fmul(sy_, pz))
+            sheared.append((px, py))
+        (ax, ay), (bx, by), (cx, cy) = sheared
+        u = fsub(fmul(cx, by), fmul(cy, bx))
+        v = fsub(fmul(ax, cy), fmul(ay, cx))
+        w = fsub(fmul(bx, ay), fmul(by, ax))
+        det = builder.fadd(builder.fadd(u, v), w)
+        zero = ir.Constant(_V4D, [0.0] * BLOCK)
+        lt, gt = (lambda a: builder.fcmp_ordered("<", a, zero)), (lambda a: builder.fcmp_ordered(">", a, zero))
+        neg = builder.or_(builder.or_(lt(u), lt(v)), lt(w))
+        pos = builder.or_(builder.or_(gt(u), gt(v)), gt(w))
+        hit = builder.and_(builder.not_(builder.and_(neg, pos)), builder.fcmp_unordered("!=", det, zero))
+        bits = builder.bitcast(hit, ir.IntType(BLOCK))
+        return builder.zext(bits, ir.IntType(64))
+
+    return types.int64(tris, blk, ukx, uky, ukz, okx, oky, okz, sx, sy), codegen
+
+
+@intrinsic
+def slab4(typingctx, nodes, rec, cnx, cny, cnz, cfx, cfy, cfz, ox, oy, oz, ix, iy, iz, tmax):
+    """Entry distances of a ray into the four child boxes of BVH record ``rec`` (inf where
+    it misses a box or enters it beyond ``tmax``), as one ``<4 x double>`` slab test.
+
+    A record stores each box plane for its four children as four consecutive float32
+    (``bvh.py``); ``cnx ... cfz`` are the first columns of the near and far planes along
+    each axis, chosen once per ray from its direction's signs (``bvh._planes4``), and
+    ``ix, iy, iz`` the inverse direction. Per lane: tn = max((near - o) * i over the axes,
+    0), tf = min((far - o) * i over the axes, tmax), the box is entered at tn if tn <= tf.
+    An absent child's box is min +inf, max -inf, which no ray enters.
+    """
+    if not isinstance(nodes, types.Array) or nodes.ndim != 2 or nodes.dtype != types.float32:
+        return None
+    ints = (rec, cnx, cny, cnz, cfx, cfy, cfz)
+    if not all(isinstance(a, types.Integer) for a in ints):
+        return None
+    floats = (ox, oy, oz, ix, iy, iz, tmax)
+    if not all(a == types.float64 for a in floats):
+        return None
+    ret = types.UniTuple(types.float64, BLOCK)
+
+    def codegen(context, builder, sig, args):
+        ary = context.make_array(sig.args[0])(context, builder, args[0])
+        strides = cgutils.unpack_tuple(builder, ary.strides, 2)
+        idx = [context.cast(builder, args[k], sig.args[k], types.intp) for k in range(1, 8)]
+        base = builder.add(builder.ptrtoint(ary.data, cgutils.intp_t), builder.mul(idx[0], strides[0]))
+        four = ir.Constant(cgutils.intp_t, 4)
+
+        def load(col):
+            addr = builder.add(base, builder.mul(col, four))
+            return builder.fpext(builder.load(builder.inttoptr(addr, _V4F.as_pointer()), align=4), _V4D)
+
+        o = [_splat(builder, a) for a in args[8:11]]
+        inv = [_splat(builder, a) for a in args[11:14]]
+        tmax_ = _splat(builder, args[14])
+
+        def vmax(a, b):
+            return builder.select(builder.fcmp_ordered(">", a, b), a, b)
+
+        def vmin(a, b):
+            return builder.select(builder.fcmp_ordered("<", a, b), a, b)
+
+        near = [builder.fmul(builder.fsub(load(idx[1 + k]), o[k]), inv[k]) for k in range(3)]
+        far = [builder.fmul(builder.fsub(load(idx[4 + k]), o[k]), inv[k]) for k in range(3)]
+        zero = ir.Constant(_V4D, [0.0] * BLOCK)
+        tn = vmax(vmax(near[0], near[1]), vmax(near[2], zero))
+        tf = vmin(vmin(far[0], far[1]), vmin(far[2], tmax_))
+        t = builder.select(builder.fcmp_ordered("<=", tn, tf), tn, ir.Constant(_V4D, [float("inf")] * BLOCK))
+        vals = [builder.extract_element(t, ir.Constant(ir.IntType(32), k)) for k in range(BLOCK)]
+        return context.make_tuple(builder, ret, vals)
+
+    return ret(nodes, rec, cnx, cny, cnz, cfx, cfy, cfz, ox, oy, oz, ix, iy, iz, tmax), codegen

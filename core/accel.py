@@ -64,9 +64,10 @@ class BVH:
         """Bytes the renderer keeps: node records, leaf blocks, leaf-order shading arrays
         and ``prims``.
 
-        At most 64 (T - 1) + 160 T + 64 T (a block per triangle when every leaf holds one),
-        i.e. < 288 bytes per triangle whatever the tree; with the builder's leaves of up to
-        8 to 16 triangles it is far less (benchmarks/scale_bench.py).
+        At most 128 (T - 1) + 160 T + 64 T (a record per binary node, a block per triangle,
+        when every leaf holds one triangle), i.e. < 352 bytes per triangle whatever the
+        tree; with the builder's leaves of about 6 triangles and records of about three
+        children it is about 122 (benchmarks/scale_bench.py).
         """
         return sum(a.nbytes for a in (self.nodes, self.prims, self.tris, self.v0, self.e1, self.e2))
 

@@ -135,19 +135,16 @@ def _set_child_box(nodes, rec, side, l0, l1, l2, h0, h1, h2):
     nodes[rec, o + 3] = _up(h0); nodes[rec, o + 4] = _up(h1); nodes[rec, o + 5] = _up(h2)
 
 
-@inline
-def _collapse(n2, l2, n_rec):
-    """The 4-wide records of the binary tree (``n2`` records, ``l2`` their int32 view):
-    each 4-wide record takes a binary record's two children and, while it has fewer than
-    four and one of them is a record, replaces the record child of largest surface area by
-    its two children, so it spans up to two binary levels. Records are numbered in
-    depth-first order, the root's 0. Returns (records, count)."""
-    nodes = np.empty((max(1, n_rec), NODE_WIDTH), np.float32)
+@function
+def _collapse(n2, l2, nodes, st, c_ref, c_cnt, c_box):
+    """Fill ``nodes`` with the 4-wide records of the binary tree (``n2`` records, ``l2``
+    their int32 view): each 4-wide record takes a binary record's two children and, while
+    it has fewer than four and one of them is a record, replaces the record child of
+    largest surface area by its two children, so it spans up to three binary levels.
+    Records are numbered in depth-first order, the root's 0. Returns their number. The
+    other arguments are scratch (``build_bvh``); a function of its own, as the builder
+    compiles faster in two parts than in one."""
     links = nodes.view(np.int32)
-    st = np.empty((3 * MAX_DEPTH + 8, 2), np.int64)  # (binary record, slot 4 * record + child or -1)
-    c_ref = np.empty(4, np.int64)
-    c_cnt = np.empty(4, np.int64)
-    c_box = np.empty((4, 6), np.float32)
     st[0, 0] = 0
     st[0, 1] = -1
     sp = 1
@@ -205,7 +202,7 @@ def _collapse(n2, l2, n_rec):
                 st[sp, 0] = c_ref[c]
                 st[sp, 1] = 4 * rec + c
                 sp += 1
-    return nodes, n4
+    return n4
 
 
 @kernel
@@ -476,7 +473,9 @@ def build_bvh(v0, v1, v2, tris, tv0, te1, te2):
                     tris[b, q * BLOCK + ln] = 0.0
             if ln == BLOCK - 1:
                 b += 1
-    nodes4, n4 = _collapse(nodes, links, n_rec)
+    nodes4 = np.empty((max(1, n_rec), NODE_WIDTH), np.float32)
+    n4 = _collapse(nodes, links, nodes4, np.empty((3 * MAX_DEPTH + 8, 2), np.int64), np.empty(4, np.int64),
+                   np.empty(4, np.int64), np.empty((4, 6), np.float32))
     return nodes4[:n4], prims, bad, n_blk
 
 

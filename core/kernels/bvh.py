@@ -631,18 +631,13 @@ def leaf_closest(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, tri_ids, ref, c
 
 
 @inline
-def leaf_any(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, ref, cnt, tmin, tmax):
-    """True if a triangle of the leaf at blocks ``ref`` (``cnt`` triangles) is hit in (tmin, tmax)."""
-    for b in range(ref, ref + n_blocks(cnt)):
-        ub = uidx(b)
-        m = hit4(tris, ub, ukx, uky, ukz, okx, oky, okz, sx, sy)
-        while m != 0:
-            ln = _lowest(m)
-            m &= m - 1
-            t, u, v = intersect_lane(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, ub, ln, tmin, tmax)
-            if t < np.inf:
-                return True
-    return False
+def leaf_any(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, tri_ids, ref, cnt, tmin, tmax):
+    """True if a triangle of the leaf at blocks ``ref`` (``cnt`` triangles) is hit in
+    (tmin, tmax): ``leaf_closest``, whose extra work after a first hit (the leaf's other
+    blocks, at most three) comes once per query, as a hit ends it."""
+    t, p, u, v = leaf_closest(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, tri_ids, ref, cnt, tmin, tmax, -1,
+                              0.0, 0.0)
+    return p >= 0
 
 
 @inline
@@ -749,7 +744,7 @@ def _closest_step(rf, ru, tmin, nodes, links, tris, tri_ids, stack, fstack, ref,
 
 
 @inline
-def _occluded_step(rf, ru, tmin, tmax, nodes, links, tris, stack, fstack, ref, cnt, sp):
+def _occluded_step(rf, ru, tmin, tmax, nodes, links, tris, tri_ids, stack, fstack, ref, cnt, sp):
     """One step of ``occluded``: visit the record or leaf (ref, cnt), then pop the next
     child. Returns (ref, cnt, sp, state): state 1 a hit (the answer is True), 0 no child
     left (False), 2 go on. ``rf``, ``ru`` as in ``_closest_step``."""
@@ -758,7 +753,7 @@ def _occluded_step(rf, ru, tmin, tmax, nodes, links, tris, stack, fstack, ref, c
     if cnt == 0:
         sp = _visit_record(nodes, links, tris, uidx(ref), ox, oy, oz, ix, iy, iz, nx, ny, nz, fx, fy, fz, tmax,
                            stack, fstack, sp, False)
-    elif leaf_any(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, ref, cnt, tmin, tmax):
+    elif leaf_any(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, tri_ids, ref, cnt, tmin, tmax):
         return ref, cnt, sp, 1
     if sp == _U0:
         return ref, cnt, sp, 0
@@ -815,6 +810,7 @@ def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     if tris.shape[0] == 0:
         return False
     links = nodes.view(np.int32)
+    tri_ids = tris.view(np.int32)
     fstack = stack.view(np.float32)
     rf, ru = _ray_tuples(ox, oy, oz, dx, dy, dz)
     sp = _U0
@@ -822,7 +818,8 @@ def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     cnt = 0
     state = 2
     while state == 2:
-        ref, cnt, sp, state = _occluded_step(rf, ru, tmin, tmax, nodes, links, tris, stack, fstack, ref, cnt, sp)
+        ref, cnt, sp, state = _occluded_step(rf, ru, tmin, tmax, nodes, links, tris, tri_ids, stack, fstack, ref,
+                                             cnt, sp)
     return state == 1
 
 
@@ -870,6 +867,19 @@ def _lane_u(lk, j):
     return (lk[j, 0], lk[j, 1], lk[j, 2], lk[j, 3], lk[j, 4], lk[j, 5], lk[j, 6], lk[j, 7], lk[j, 8])
 
 
+@inline
+def _refill(orig, dirs, j, nxt, hi, lf, lk, l_ray, l_ref, l_cnt, l_sp):
+    """Start lane ``j`` on ray ``nxt`` at the root if ``nxt < hi`` (then return nxt + 1),
+    else retire the lane (``l_ray[j] = -1``). Returns the next ray and whether it started."""
+    l_ref[j] = 0; l_cnt[j] = 0; l_sp[j] = 0
+    if nxt < hi:
+        _start_lane(orig, dirs, nxt, j, lf, lk)
+        l_ray[j] = nxt
+        return nxt + 1, True
+    l_ray[j] = -1
+    return nxt, False
+
+
 @function
 def _closest_lanes(orig, dirs, tmax, nodes, tris, lo, hi, t_out, p_out, stacks, lf, lk, l_ray, l_ref, l_cnt, l_sp, l_t,
                    l_p):
@@ -882,14 +892,10 @@ def _closest_lanes(orig, dirs, tmax, nodes, tris, lo, hi, t_out, p_out, stacks, 
     nxt = lo
     active = 0
     for j in range(LANES):
-        l_ref[j] = 0; l_cnt[j] = 0; l_sp[j] = 0
-        if nxt < hi:
-            _start_lane(orig, dirs, nxt, j, lf, lk)
-            l_ray[j] = nxt; l_t[j] = tmax[nxt]; l_p[j] = -1
-            nxt += 1
+        nxt, started = _refill(orig, dirs, j, nxt, hi, lf, lk, l_ray, l_ref, l_cnt, l_sp)
+        if started:
+            l_t[j] = tmax[l_ray[j]]; l_p[j] = -1
             active += 1
-        else:
-            l_ray[j] = -1
     j = 0
     while active > 0:
         if l_ray[j] >= 0:
@@ -907,13 +913,10 @@ def _closest_lanes(orig, dirs, tmax, nodes, tris, lo, hi, t_out, p_out, stacks, 
                 else:
                     t_out[i] = best_t
                     p_out[i] = best_p
-                l_ref[j] = 0; l_cnt[j] = 0; l_sp[j] = 0
-                if nxt < hi:
-                    _start_lane(orig, dirs, nxt, j, lf, lk)
-                    l_ray[j] = nxt; l_t[j] = tmax[nxt]; l_p[j] = -1
-                    nxt += 1
+                nxt, started = _refill(orig, dirs, j, nxt, hi, lf, lk, l_ray, l_ref, l_cnt, l_sp)
+                if started:
+                    l_t[j] = tmax[l_ray[j]]; l_p[j] = -1
                 else:
-                    l_ray[j] = -1
                     active -= 1
         j += 1
         if j == LANES:
@@ -924,36 +927,26 @@ def _closest_lanes(orig, dirs, tmax, nodes, tris, lo, hi, t_out, p_out, stacks, 
 def _occluded_lanes(orig, dirs, tmax, nodes, tris, lo, hi, out, stacks, lf, lk, l_ray, l_ref, l_cnt, l_sp):
     """Any-hit answers of rays [lo, hi), ``LANES`` in flight (see ``_closest_lanes``)."""
     links = nodes.view(np.int32)
+    tri_ids = tris.view(np.int32)
     fstacks = stacks.view(np.float32)
     nxt = lo
     active = 0
     for j in range(LANES):
-        l_ref[j] = 0; l_cnt[j] = 0; l_sp[j] = 0
-        if nxt < hi:
-            _start_lane(orig, dirs, nxt, j, lf, lk)
-            l_ray[j] = nxt
-            nxt += 1
-            active += 1
-        else:
-            l_ray[j] = -1
+        nxt, started = _refill(orig, dirs, j, nxt, hi, lf, lk, l_ray, l_ref, l_cnt, l_sp)
+        active += started
     j = 0
     while active > 0:
         i = l_ray[j]
         if i >= 0:
             ref, cnt, sp, state = _occluded_step(_lane_f(lf, j), _lane_u(lk, j), 0.0, tmax[i], nodes, links, tris,
-                                                 stacks[j], fstacks[j], l_ref[j], l_cnt[j], l_sp[j])
+                                                 tri_ids, stacks[j], fstacks[j], l_ref[j], l_cnt[j], l_sp[j])
             if state == 2:
                 _prefetch_child(nodes, tris, ref, cnt)
                 l_ref[j] = ref; l_cnt[j] = cnt; l_sp[j] = sp
             else:
                 out[i] = state == 1
-                l_ref[j] = 0; l_cnt[j] = 0; l_sp[j] = 0
-                if nxt < hi:
-                    _start_lane(orig, dirs, nxt, j, lf, lk)
-                    l_ray[j] = nxt
-                    nxt += 1
-                else:
-                    l_ray[j] = -1
+                nxt, started = _refill(orig, dirs, j, nxt, hi, lf, lk, l_ray, l_ref, l_cnt, l_sp)
+                if not started:
                     active -= 1
         j += 1
         if j == LANES:

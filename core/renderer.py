@@ -734,7 +734,16 @@ def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_
 
 def _render(scene, n_threads, say, helper, progress, should_cancel, on_pass, spectral_bins, resume, measure):
     say("Preparing scene" if helper is None else "Compiling kernels (first run only): preparing scene")
-    prep = prepare(scene, measure=measure)
+    # on a cold start ``prepare`` compiles the BVH builder: with Python's cyclic garbage
+    # collector paused, as for the kernel below
+    gc_was_on = gc.isenabled()
+    if helper is not None:
+        gc.disable()
+    try:
+        prep = prepare(scene, measure=measure)
+    finally:
+        if gc_was_on:
+            gc.enable()
     cam = scene.camera
     if resume is not None:
         if (resume.width, resume.height) != (cam.width, cam.height):

@@ -734,49 +734,43 @@ def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_
 
 def _render(scene, n_threads, say, helper, progress, should_cancel, on_pass, spectral_bins, resume, measure):
     say("Preparing scene" if helper is None else "Compiling kernels (first run only): preparing scene")
-    # on a cold start ``prepare`` compiles the BVH builder: with Python's cyclic garbage
-    # collector paused, as for the kernel below
+    cold = not kernels_compiled()
+    t_compile = 0.0
+    # on a cold start, Python's cyclic garbage collector is paused from ``prepare`` (which
+    # compiles the BVH builder) to the end of the kernel's compile: numba's compiler makes
+    # millions of short-lived objects and the collector's sweeps took ~10 % of the compile time
     gc_was_on = gc.isenabled()
-    if helper is not None:
+    if cold:
         gc.disable()
     try:
         prep = prepare(scene, measure=measure)
-    finally:
-        if gc_was_on:
-            gc.enable()
-    cam = scene.camera
-    if resume is not None:
-        if (resume.width, resume.height) != (cam.width, cam.height):
-            raise SceneError(f"resume: the film is {resume.width}x{resume.height}, the scene renders "
-                             f"{cam.width}x{cam.height}")
-        if getattr(resume, "observer", "1931") != scene.settings.observer:
-            raise SceneError(f"resume: the film was rendered with the CIE {resume.observer} observer, the scene "
-                             f"asks for {scene.settings.observer}")
-        if resume.spp > scene.settings.spp:
-            raise SceneError(f"resume: the film already has {resume.spp} spp, more than settings.spp = "
-                             f"{scene.settings.spp}")
-        film = resume.copy()
-    else:
-        film = Film(cam.width, cam.height, spectral_bins, observer=scene.settings.observer)
-    total = int(scene.settings.spp)
-    t_compile = 0.0
-    if not kernels_compiled():
-        say("Compiling kernels (first run only)")
-        tc = time.perf_counter()
-        # compile (or load from numba's cache) with a 1-sample pass on a scratch film; with
-        # Python's cyclic garbage collector paused: numba's compiler makes millions of
-        # short-lived objects and the collector's sweeps took ~10 % of the compile time
-        gc_was_on = gc.isenabled()
-        gc.disable()
-        try:
+        cam = scene.camera
+        if resume is not None:
+            if (resume.width, resume.height) != (cam.width, cam.height):
+                raise SceneError(f"resume: the film is {resume.width}x{resume.height}, the scene renders "
+                                 f"{cam.width}x{cam.height}")
+            if getattr(resume, "observer", "1931") != scene.settings.observer:
+                raise SceneError(f"resume: the film was rendered with the CIE {resume.observer} observer, the "
+                                 f"scene asks for {scene.settings.observer}")
+            if resume.spp > scene.settings.spp:
+                raise SceneError(f"resume: the film already has {resume.spp} spp, more than settings.spp = "
+                                 f"{scene.settings.spp}")
+            film = resume.copy()
+        else:
+            film = Film(cam.width, cam.height, spectral_bins, observer=scene.settings.observer)
+        total = int(scene.settings.spp)
+        if cold:
+            say("Compiling kernels (first run only)")
+            tc = time.perf_counter()
+            # compile (or load from numba's cache) with a 1-sample pass on a scratch film
             if helper is not None:  # this process's share of the helpers, then the kernel
                 warmup.compile_group(False)
             run_pass(prep, Film(1, 1, observer=scene.settings.observer), 0, 1)
-        finally:
-            if gc_was_on:
-                gc.enable()
-        warmup.finish(helper)
-        t_compile = time.perf_counter() - tc
+            warmup.finish(helper)
+            t_compile = time.perf_counter() - tc
+    finally:
+        if gc_was_on:
+            gc.enable()
     say("Rendering")
     pool = ThreadPoolExecutor(max_workers=n_threads, thread_name_prefix="spectral-gi") if n_threads > 1 else None
     try:

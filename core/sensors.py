@@ -115,6 +115,11 @@ def illuminance_image(film) -> IlluminanceImage:
     return IlluminanceImage(lux=lux, coverage=coverage, std=std)
 
 
+def _check_min_coverage(min_coverage):
+    if not 0.0 <= min_coverage <= 1.0:
+        raise ValueError(f"min_coverage: expected a fraction in [0, 1], got {min_coverage}")
+
+
 def illuminance_stats(lux, mask=None, coverage=None, min_coverage=FULL_COVERAGE, std=None) -> IlluminanceStats:
     """Em, Emin, Emax and U0 = Emin / Em over the finite pixels of ``lux`` (and ``mask``).
 
@@ -128,8 +133,7 @@ def illuminance_stats(lux, mask=None, coverage=None, min_coverage=FULL_COVERAGE,
         sel &= np.asarray(mask, bool)
     measured = int(sel.sum())
     if coverage is not None:
-        if not 0.0 <= min_coverage <= 1.0:
-            raise ValueError(f"min_coverage: expected a fraction in [0, 1], got {min_coverage}")
+        _check_min_coverage(min_coverage)
         sel &= np.asarray(coverage, np.float64) >= min_coverage
     else:
         min_coverage = 0.0
@@ -170,8 +174,7 @@ def render_illuminance(scene, *, threads=None, progress=None, should_cancel=None
 
     if not has_sensors(scene):
         raise SceneError("meshes: no mesh is an illuminance sensor (set Mesh.sensor = True)")
-    if not 0.0 <= min_coverage <= 1.0:  # before the render, not after it
-        raise ValueError(f"min_coverage: expected a fraction in [0, 1], got {min_coverage}")
+    _check_min_coverage(min_coverage)  # before the render, not after it
     film, rstats = render(measuring_scene(scene, box_filter), threads=threads, progress=progress,
                           should_cancel=should_cancel, on_pass=on_pass, status=status, resume=resume, measure=True)
     img = illuminance_image(film)

@@ -880,6 +880,18 @@ def _refill(orig, dirs, j, nxt, hi, lf, lk, l_ray, l_ref, l_cnt, l_sp):
     return nxt, False
 
 
+@inline
+def _start_lanes(orig, dirs, lo, hi, lf, lk, l_ray, l_ref, l_cnt, l_sp):
+    """Start every lane on the rays from ``lo`` (while any are left before ``hi``).
+    Returns the next ray and the number of lanes started."""
+    nxt = lo
+    active = 0
+    for j in range(LANES):
+        nxt, started = _refill(orig, dirs, j, nxt, hi, lf, lk, l_ray, l_ref, l_cnt, l_sp)
+        active += started
+    return nxt, active
+
+
 @function
 def _closest_lanes(orig, dirs, tmax, nodes, tris, lo, hi, t_out, p_out, stacks, lf, lk, l_ray, l_ref, l_cnt, l_sp, l_t,
                    l_p):
@@ -889,13 +901,9 @@ def _closest_lanes(orig, dirs, tmax, nodes, tris, lo, hi, t_out, p_out, stacks, 
     links = nodes.view(np.int32)
     tri_ids = tris.view(np.int32)
     fstacks = stacks.view(np.float32)
-    nxt = lo
-    active = 0
-    for j in range(LANES):
-        nxt, started = _refill(orig, dirs, j, nxt, hi, lf, lk, l_ray, l_ref, l_cnt, l_sp)
-        if started:
-            l_t[j] = tmax[l_ray[j]]; l_p[j] = -1
-            active += 1
+    nxt, active = _start_lanes(orig, dirs, lo, hi, lf, lk, l_ray, l_ref, l_cnt, l_sp)
+    for j in range(active):  # lanes start in order, so the first ``active`` are running
+        l_t[j] = tmax[l_ray[j]]; l_p[j] = -1
     j = 0
     while active > 0:
         if l_ray[j] >= 0:
@@ -929,11 +937,7 @@ def _occluded_lanes(orig, dirs, tmax, nodes, tris, lo, hi, out, stacks, lf, lk, 
     links = nodes.view(np.int32)
     tri_ids = tris.view(np.int32)
     fstacks = stacks.view(np.float32)
-    nxt = lo
-    active = 0
-    for j in range(LANES):
-        nxt, started = _refill(orig, dirs, j, nxt, hi, lf, lk, l_ray, l_ref, l_cnt, l_sp)
-        active += started
+    nxt, active = _start_lanes(orig, dirs, lo, hi, lf, lk, l_ray, l_ref, l_cnt, l_sp)
     j = 0
     while active > 0:
         i = l_ray[j]

@@ -6,7 +6,9 @@ film splat). numba compiles in one thread per process, but its on-disk cache is 
 a helper compiled and saved by another process is loaded, not compiled, when the
 kernel's type inference reaches its call. So on a cold cache ``render`` starts a second
 Python process that compiles the helpers of ``HELPER_GROUP`` while this one builds the
-BVH (compiling its builder), compiles the other helpers and then the kernel's own body.
+BVH (compiling its builder) and compiles the other helpers; this one then waits for the
+second to finish (``wait``), so that no helper is compiled twice, and compiles the
+kernel's own body.
 On a machine with one core, with ``SPECTRAL_GI_PARALLEL_COMPILE=0``, or when anything
 about the second process fails, everything is compiled here as before: the second
 process only ever saves work.
@@ -26,6 +28,7 @@ import importlib
 import os
 import subprocess
 import sys
+import time
 
 # compiled by the second process: the BSDF dispatch (every model's eval and sample), the
 # emitter sampling, the image textures, the film splat and the sampler's draws; with the
@@ -140,6 +143,20 @@ def start():
                                 stderr=subprocess.DEVNULL, env=env)
     except Exception:  # noqa: BLE001 - no second process: compile everything here
         return None
+
+
+def wait(proc, timeout):
+    """Before the kernel's own compile: wait (at most ``timeout`` s) for the second process
+    to finish its group, so that the kernel's type inference loads those helpers from the
+    cache instead of compiling them a second time here. Returns the seconds waited."""
+    if proc is None:
+        return 0.0
+    t = time.perf_counter()
+    try:
+        proc.wait(timeout=max(0.0, timeout))
+    except Exception:  # noqa: BLE001 - late or stuck: compile what is missing here
+        pass
+    return time.perf_counter() - t
 
 
 def finish(proc):

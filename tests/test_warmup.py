@@ -63,3 +63,19 @@ def test_only_a_python_executable_is_started(monkeypatch):
 def test_switch_off(monkeypatch):
     monkeypatch.setenv("SPECTRAL_GI_PARALLEL_COMPILE", "0")
     assert warmup.start() is None
+
+
+def test_wait_for_the_second_process_is_bounded():
+    """The kernel's compile waits for the second process to finish its group, but never
+    longer than it is told: a stuck process is left to ``finish``."""
+    assert warmup.wait(None, 5.0) == 0.0
+    quick = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(0.5)"])
+    waited = warmup.wait(quick, 30.0)
+    assert quick.poll() == 0 and 0.3 < waited < 20.0
+    stuck = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    try:
+        waited = warmup.wait(stuck, 0.5)
+        assert stuck.poll() is None and 0.4 < waited < 10.0
+    finally:
+        warmup.finish(stuck)
+    assert stuck.poll() is not None

@@ -24,9 +24,10 @@ four lanes coordinate by coordinate (column ``4 * (3 * corner + axis) + lane``: 
 the four lanes, then v0 y, ...), then four int32 bit patterns (columns 36-39, read through
 ``tris.view(np.int32)``): each lane's triangle index in leaf order, -1 for a padding lane
 (three equal corners, never hit). A leaf's triangles fill its lanes in leaf order. The
-traversal tests the four lanes of a block at once (``simd.hit4``, 4-wide float64) and
-the few lanes that pass with the scalar watertight test, which reads the corners
-themselves, so neighbouring triangles see the very same corner. Shading keeps ``v0`` (float32 (T, 3)) and the exact
+traversal tests the four lanes of a block at once (``simd.hit4``, 4-wide float64, edge
+functions and distance) and the lanes it reports hit with the scalar watertight test
+(the same operations, for the barycentrics), which reads the corners themselves, so
+neighbouring triangles see the very same corner. Shading keeps ``v0`` (float32 (T, 3)) and the exact
 edges ``e1 = v1 - v0``, ``e2 = v2 - v0`` (float64 (T, 3), differences of the float32
 corners, exact unless a corner's coordinates differ by more than 2^29 in magnitude),
 also in leaf order.
@@ -559,8 +560,8 @@ def intersect_lane(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, blk, lane, tm
     three edge functions decide the hit, and a shared edge gets the same edge function
     (negated) in both its triangles, so no ray slips between them. Returns (t, u, v)
     with u, v the weights of v1, v2; t = inf on a miss. ``simd.hit4`` computes the same
-    edge functions for the four lanes of a block at once, so the traversal calls this
-    only for the lanes it reports.
+    edge functions and distance for the four lanes of a block at once, so the traversal
+    calls this only for the lanes it reports hit.
     """
     q = uidx(blk)
     ln = uidx(lane)
@@ -613,11 +614,12 @@ def n_blocks(cnt):
 @inline
 def leaf_closest(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, tri_ids, ref, cnt, tmin, best_t, best_p, best_u, best_v):
     """The closest hit so far (t, prim, u, v) after testing the leaf whose blocks start at
-    ``ref`` (``cnt`` triangles): the blocks' masks from ``hit4``, then the scalar test of
-    the lanes set, in lane order (so ties go to the first triangle, as one by one)."""
+    ``ref`` (``cnt`` triangles): the blocks' masks of lanes hit before the closest so far
+    from ``hit4``, then the scalar test of the lanes set, in lane order (so ties go to
+    the first triangle, as one by one)."""
     for b in range(ref, ref + n_blocks(cnt)):
         ub = uidx(b)
-        m = hit4(tris, ub, ukx, uky, ukz, okx, oky, okz, sx, sy)
+        m = hit4(tris, ub, ukx, uky, ukz, okx, oky, okz, sx, sy, sz, tmin, best_t)
         while m != 0:
             ln = _lowest(m)
             m &= m - 1

@@ -518,9 +518,11 @@ def _pick(x, y, z, k):
 
 
 @inline
-def ray_setup(dx, dy, dz):
+def ray_setup(dx, dy, dz, ix, iy, iz):
     """Watertight-test constants of a ray: the axes (kx, ky, kz), kz the dominant one, and
-    the shear (sx, sy, sz) mapping the direction to +z (Woop, Benthin, Wald 2013)."""
+    the shear (sx, sy, sz) mapping the direction to +z (Woop, Benthin, Wald 2013).
+    ``ix, iy, iz`` are the inverse direction (``_inv``): sz = 1 / d_kz is the dominant
+    axis's, the same division (d_kz is never 0 for a direction)."""
     ax = abs(dx); ay = abs(dy); az = abs(dz)
     kz = 0  # the first axis of largest |d|
     if ay > ax:
@@ -530,10 +532,9 @@ def ray_setup(dx, dy, dz):
         kz = 2
     kx = kz + 1 if kz < 2 else 0
     ky = kx + 1 if kx < 2 else 0
-    dk = _pick(dx, dy, dz, kz)
-    if dk < 0.0:
+    if _pick(dx, dy, dz, kz) < 0.0:
         t = kx; kx = ky; ky = t  # keep the winding
-    sz = 1.0 / dk
+    sz = _pick(ix, iy, iz, kz)
     sx = _pick(dx, dy, dz, kx) * sz
     sy = _pick(dx, dy, dz, ky) * sz
     return kx, ky, kz, sx, sy, sz
@@ -544,8 +545,9 @@ def ray_constants(ox, oy, oz, dx, dy, dz):
     """What every traversal derives once per ray: the inverse direction (ix, iy, iz) for
     the slab tests, and for the watertight triangle test the axes and shear of
     ``ray_setup`` and the origin's coordinates on those axes (okx, oky, okz)."""
-    kx, ky, kz, sx, sy, sz = ray_setup(dx, dy, dz)
-    return (_inv(dx), _inv(dy), _inv(dz), kx, ky, kz, sx, sy, sz,
+    ix = _inv(dx); iy = _inv(dy); iz = _inv(dz)
+    kx, ky, kz, sx, sy, sz = ray_setup(dx, dy, dz, ix, iy, iz)
+    return (ix, iy, iz, kx, ky, kz, sx, sy, sz,
             _pick(ox, oy, oz, kx), _pick(ox, oy, oz, ky), _pick(ox, oy, oz, kz))
 
 

@@ -637,11 +637,12 @@ def leaf_closest(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, tri_ids, ref, c
 @inline
 def leaf_any(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, tri_ids, ref, cnt, tmin, tmax):
     """True if a triangle of the leaf at blocks ``ref`` (``cnt`` triangles) is hit in
-    (tmin, tmax): ``leaf_closest``, whose extra work after a first hit (the leaf's other
-    blocks, at most three) comes once per query, as a hit ends it."""
-    t, p, u, v = leaf_closest(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, tri_ids, ref, cnt, tmin, tmax, -1,
-                              0.0, 0.0)
-    return p >= 0
+    (tmin, tmax): a lane ``hit4`` sets is exactly a lane the scalar test would report, so
+    an any-hit query needs no scalar test."""
+    for b in range(ref, ref + n_blocks(cnt)):
+        if hit4(tris, uidx(b), ukx, uky, ukz, okx, oky, okz, sx, sy, sz, tmin, tmax) != 0:
+            return True
+    return False
 
 
 @inline

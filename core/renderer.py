@@ -766,10 +766,9 @@ def _render(scene, n_threads, say, helper, progress, should_cancel, on_pass, spe
             # compile (or load from numba's cache) with a 1-sample pass on a scratch film
             if helper is not None:  # this process's share of the helpers, then the kernel
                 warmup.compile_group(False)
-                # the second process has had as long as this one; a stuck one is not waited for longer
-                warmup.wait(helper, time.perf_counter() - t_start)
+                # the second process's share: given as long as this process has worked
+                warmup.finish(helper, grace=time.perf_counter() - t_start)
             run_pass(prep, Film(1, 1, observer=scene.settings.observer), 0, 1)
-            warmup.finish(helper)
             t_compile = time.perf_counter() - tc
     finally:
         if gc_was_on:

@@ -7,7 +7,7 @@ a helper compiled and saved by another process is loaded, not compiled, when the
 kernel's type inference reaches its call. So on a cold cache ``render`` starts a second
 Python process that compiles the helpers of ``HELPER_GROUP`` while this one builds the
 BVH (compiling its builder) and compiles the other helpers; this one then waits for the
-second to finish (``wait``), so that no helper is compiled twice, and compiles the
+second to finish (``finish``), so that no helper is compiled twice, and compiles the
 kernel's own body.
 On a machine with one core, with ``SPECTRAL_GI_PARALLEL_COMPILE=0``, or when anything
 about the second process fails, everything is compiled here as before: the second
@@ -28,7 +28,6 @@ import importlib
 import os
 import subprocess
 import sys
-import time
 
 # compiled by the second process: the BSDF dispatch (every model's eval and sample), the
 # emitter sampling, the image textures, the film splat and the sampler's draws; with the
@@ -145,25 +144,20 @@ def start():
         return None
 
 
-def wait(proc, timeout):
-    """Before the kernel's own compile: wait (at most ``timeout`` s) for the second process
-    to finish its group, so that the kernel's type inference loads those helpers from the
-    cache instead of compiling them a second time here. Returns the seconds waited."""
-    if proc is None:
-        return 0.0
-    t = time.perf_counter()
-    try:
-        proc.wait(timeout=max(0.0, timeout))
-    except Exception:  # noqa: BLE001 - late or stuck: compile what is missing here
-        pass
-    return time.perf_counter() - t
+def finish(proc, grace=0.0):
+    """Let the second process end on its own for at most ``grace`` seconds, then stop it.
 
-
-def finish(proc):
-    """After this process's compile: stop the second process if it still runs (it is then
-    behind this one and its results are not needed)."""
+    Called before the kernel's own compile with the time this process has worked as the
+    grace: the second process has then saved its group, so the kernel's type inference
+    loads those helpers from the cache instead of compiling them a second time here; one
+    still running after that is stuck or far behind, and what it has not saved is compiled
+    here. ``render`` calls it again (grace 0) whatever happens, so no process outlives it."""
     if proc is None:
         return
+    try:
+        proc.wait(timeout=max(0.0, grace))
+    except Exception:  # noqa: BLE001 - still running: stopped below
+        pass
     try:
         if proc.poll() is None:
             proc.kill()

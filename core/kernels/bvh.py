@@ -635,7 +635,7 @@ def leaf_closest(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, tri_ids, ref, c
 
 
 @inline
-def leaf_any(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, tri_ids, ref, cnt, tmin, tmax):
+def leaf_any(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, ref, cnt, tmin, tmax):
     """True if a triangle of the leaf at blocks ``ref`` (``cnt`` triangles) is hit in
     (tmin, tmax): a lane ``hit4`` sets is exactly a lane the scalar test would report, so
     an any-hit query needs no scalar test."""
@@ -749,7 +749,7 @@ def _closest_step(rf, ru, tmin, nodes, links, tris, tri_ids, stack, fstack, ref,
 
 
 @inline
-def _occluded_step(rf, ru, tmin, tmax, nodes, links, tris, tri_ids, stack, fstack, ref, cnt, sp):
+def _occluded_step(rf, ru, tmin, tmax, nodes, links, tris, stack, fstack, ref, cnt, sp):
     """One step of ``occluded``: visit the record or leaf (ref, cnt), then pop the next
     child. Returns (ref, cnt, sp, state): state 1 a hit (the answer is True), 0 no child
     left (False), 2 go on. ``rf``, ``ru`` as in ``_closest_step``."""
@@ -758,7 +758,7 @@ def _occluded_step(rf, ru, tmin, tmax, nodes, links, tris, tri_ids, stack, fstac
     if cnt == 0:
         sp = _visit_record(nodes, links, tris, uidx(ref), ox, oy, oz, ix, iy, iz, nx, ny, nz, fx, fy, fz, tmax,
                            stack, fstack, sp, False)
-    elif leaf_any(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, tri_ids, ref, cnt, tmin, tmax):
+    elif leaf_any(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, ref, cnt, tmin, tmax):
         return ref, cnt, sp, 1
     if sp == _U0:
         return ref, cnt, sp, 0
@@ -815,7 +815,6 @@ def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     if tris.shape[0] == 0:
         return False
     links = nodes.view(np.int32)
-    tri_ids = tris.view(np.int32)
     fstack = stack.view(np.float32)
     rf, ru = _ray_tuples(ox, oy, oz, dx, dy, dz)
     sp = _U0
@@ -823,8 +822,8 @@ def occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     cnt = 0
     state = 2
     while state == 2:
-        ref, cnt, sp, state = _occluded_step(rf, ru, tmin, tmax, nodes, links, tris, tri_ids, stack, fstack, ref,
-                                             cnt, sp)
+        ref, cnt, sp, state = _occluded_step(rf, ru, tmin, tmax, nodes, links, tris, stack, fstack, ref, cnt,
+                                             sp)
     return state == 1
 
 
@@ -940,7 +939,6 @@ def _closest_lanes(orig, dirs, tmax, nodes, tris, lo, hi, t_out, p_out, stacks, 
 def _occluded_lanes(orig, dirs, tmax, nodes, tris, lo, hi, out, stacks, lf, lk, l_ray, l_ref, l_cnt, l_sp):
     """Any-hit answers of rays [lo, hi), ``LANES`` in flight (see ``_closest_lanes``)."""
     links = nodes.view(np.int32)
-    tri_ids = tris.view(np.int32)
     fstacks = stacks.view(np.float32)
     nxt, active = _start_lanes(orig, dirs, lo, hi, lf, lk, l_ray, l_ref, l_cnt, l_sp)
     j = 0
@@ -948,7 +946,7 @@ def _occluded_lanes(orig, dirs, tmax, nodes, tris, lo, hi, out, stacks, lf, lk, 
         i = l_ray[j]
         if i >= 0:
             ref, cnt, sp, state = _occluded_step(_lane_f(lf, j), _lane_u(lk, j), 0.0, tmax[i], nodes, links, tris,
-                                                 tri_ids, stacks[j], fstacks[j], l_ref[j], l_cnt[j], l_sp[j])
+                                                 stacks[j], fstacks[j], l_ref[j], l_cnt[j], l_sp[j])
             if state == 2:
                 _prefetch_child(nodes, tris, ref, cnt)
                 l_ref[j] = ref; l_cnt[j] = cnt; l_sp[j] = sp

@@ -318,3 +318,76 @@ def test_batch_lanes_follow_the_one_ray_traversal():
         ts, ps, _, _ = K.trace_closest(*o[i], *d[i], 0.0, tm[i], bvh.nodes, bvh.tris, stack)
         assert ps == p[i] and ts == t[i], i
         assert K.trace_occluded(*o[i], *d[i], 0.0, tm[i], bvh.nodes, bvh.tris, stack) == occ[i], i
+
+
+def _nearest_lane_oracle(bvh, rf, ru, blk, tmin, tmax):
+    """The scalar test of each lane in order, keeping a strictly nearer hit."""
+    ox, oy, oz, ix, iy, iz, sx, sy, sz, okx, oky, okz = rf
+    ukx, uky, ukz = ru[:3]
+    lane, best = -1, tmax
+    for ln in range(4):
+        t, _, _ = K.intersect_lane(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, bvh.tris, blk, ln, tmin, best)
+        if t < best:
+            lane, best = ln, t
+    return lane, best
+
+
+def test_nearest_lane_of_a_block_is_the_scalar_tests():
+    """hit4_nearest (one vector test of a block's four triangles) reports the lane and the
+    distance the scalar test finds lane by lane, ties to the first lane, for rays that
+    hit, miss, start inside the interval's ends and pass through shared edges."""
+    import numba
+
+    from spectral_gi.core.kernels.simd import hit4_nearest
+
+    @numba.njit
+    def nearest(tris, blk, rf, ru, tmin, tmax):
+        ox, oy, oz, ix, iy, iz, sx, sy, sz, okx, oky, okz = rf
+        return hit4_nearest(tris, blk, ru[0], ru[1], ru[2], okx, oky, okz, sx, sy, sz, tmin, tmax)
+
+    rng = np.random.default_rng(17)
+    v0, v1, v2 = _soup(rng, 64, spread=0.3, size=0.3)
+    # two triangles sharing an edge, twice (identical distances in two lanes: a tie)
+    v0[:4] = [[0, 0, 0], [1, 1, 0], [0, 0, 0], [1, 1, 0]]
+    v1[:4] = [[1, 0, 0], [0, 1, 0], [1, 0, 0], [0, 1, 0]]
+    v2[:4] = [[0, 1, 0], [1, 0, 0], [0, 1, 0], [1, 0, 0]]
+    bvh = accel.build(v0, v1, v2)
+    o, d = _rays(rng, 400, extent=1.5, tris=(v0, v1, v2))
+    o[:50] = rng.uniform(0.0, 1.0, (50, 3)) * [1, 1, 0] + [0, 0, 2]
+    o[:10, :2] = 0.5  # on the shared diagonal
+    d[:50] = [0, 0, -1]
+    seen = 0
+    for i in range(o.shape[0]):
+        rf, ru = K._ray_tuples(*o[i], *d[i])
+        for blk in range(bvh.tris.shape[0]):
+            for tmin, tmax in ((0.0, np.inf), (0.0, 1.0), (0.5, 3.0)):
+                got = nearest(bvh.tris, blk, rf, ru, tmin, tmax)
+                want = _nearest_lane_oracle(bvh, rf, ru, blk, tmin, tmax)
+                assert got == want, (i, blk, tmin, tmax, got, want)
+                seen += want[0] >= 0
+    assert seen > 100
+
+
+def test_entry_distances_round_down_to_float32():
+    """simd.f32_below: the largest float32 not above t, as np.nextafter finds it."""
+    import numba
+
+    from spectral_gi.core.kernels.simd import f32_below
+
+    @numba.njit
+    def below(a):
+        out = np.empty(a.size, np.float32)
+        for i in range(a.size):
+            out[i] = f32_below(a[i])
+        return out
+
+    rng = np.random.default_rng(5)
+    t = np.concatenate([rng.random(20000) * 10.0 ** rng.integers(-46, 40, 20000),
+                        [0.0, 1e-46, 2.0 ** -149, 2.0 ** -126, 1.0, 1.0 + 2.0 ** -30, 3.4028235e38, 1e39, np.inf]])
+    with np.errstate(over="ignore"):
+        f = t.astype(np.float32)
+    want = np.where(f.astype(np.float64) > t, np.nextafter(f, np.float32(-np.inf)), f)
+    got = below(t)
+    assert np.array_equal(got.view(np.int32), want.view(np.int32))
+    assert np.all(got.astype(np.float64) <= t)
+    assert got[-1] == np.inf and got[-2] == np.finfo(np.float32).max

@@ -5,7 +5,7 @@ import pytest
 
 from spectral_gi import core
 from spectral_gi.core import constants as C
-from spectral_gi.core.kernels.rng import mix64, nested_index, owen32, rev32, shift_32, sobol_02, sobol_pair
+from spectral_gi.core.kernels.rng import mix64, nested_index, owen32, pascal32, rev32, shift_32, sobol_02, sobol_bits, sobol_pair
 
 # Sobol's first two dimensions, points 0..7 in index order (not Gray-code order): dimension
 # 0 is the van der Corput sequence, dimension 1 XORs the direction numbers 1/2, 3/4, 5/8
@@ -69,6 +69,31 @@ def test_bit_reversal():
     assert rev32(1) == 2 ** 31 and rev32(2 ** 31) == 1 and rev32(0b1011) == 0b1101 << 28
     x = np.random.default_rng(0).integers(0, 2 ** 32, 200)
     assert all(rev32(rev32(int(v))) == v for v in x)
+    # only the low 32 bits count, as a string reversal of them
+    y = np.random.default_rng(1).integers(0, 2 ** 63, 500, dtype=np.int64).astype(np.uint64) * np.uint64(3)
+    assert all(rev32(v) == int(format(int(v) & 0xFFFFFFFF, "032b")[::-1], 2) for v in y)
+
+
+def _sobol_second_oracle(i):
+    """Sobol's second dimension from its direction numbers: d_0 = 1/2, d_(k+1) = d_k ^ (d_k >> 1)
+    (the primitive polynomial x + 1), XORed where the index has a bit."""
+    i &= 0xFFFFFFFF
+    v, d = 0, 1 << 31
+    while i:
+        if i & 1:
+            v ^= d
+        i >>= 1
+        d ^= d >> 1
+    return v
+
+
+def test_second_dimension_is_pascals_matrix():
+    """The shift-and-mask form (pascal32, reversed) gives the direction numbers' XOR."""
+    rng = np.random.default_rng(2)
+    idx = [int(v) for v in rng.integers(0, 2 ** 63, 3000, dtype=np.int64)] + list(range(260)) + [2 ** 32 - 1]
+    for i in idx:
+        assert sobol_bits(np.uint64(i), 1) == _sobol_second_oracle(i), i
+        assert pascal32(np.uint64(i)) == rev32(_sobol_second_oracle(i)), i
 
 
 @pytest.mark.parametrize("h", [1, 2 ** 40 + 3, 0xDEADBEEFCAFEF00D])

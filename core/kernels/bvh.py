@@ -25,9 +25,10 @@ the four lanes, then v0 y, ...), then four int32 bit patterns (columns 36-39, re
 ``tris.view(np.int32)``): each lane's triangle index in leaf order, -1 for a padding lane
 (three equal corners, never hit). A leaf's triangles fill its lanes in leaf order. The
 traversal tests the four lanes of a block at once (``simd.hit4``, 4-wide float64, edge
-functions and distance) and the lanes it reports hit with the scalar watertight test
-(the same operations, for the barycentrics), which reads the corners themselves, so
-neighbouring triangles see the very same corner. Shading keeps ``v0`` (float32 (T, 3)) and the exact
+functions and distance; ``simd.hit4_nearest`` also picks the nearest lane hit), and
+repeats the scalar watertight test (the same operations) on the final closest hit only,
+for its barycentrics. Both read the corners themselves, so neighbouring triangles see
+the very same corner. Shading keeps ``v0`` (float32 (T, 3)) and the exact
 edges ``e1 = v1 - v0``, ``e2 = v2 - v0`` (float64 (T, 3), differences of the float32
 corners, exact unless a corner's coordinates differ by more than 2^29 in magnitude),
 also in leaf order.
@@ -51,7 +52,7 @@ from numba import prange
 
 from ..jit import function, inline, kernel
 from .prefetch import prefetch_lines
-from .simd import BLOCK, BLOCK_COLS, PRIM_COL, hit4, slab4
+from .simd import BLOCK, BLOCK_COLS, PRIM_COL, f32_below, hit4, hit4_nearest, slab4
 
 N_BINS = 16
 MAX_LEAF = 8  # ranges this small always become leaves (fewer nodes, same ray speed as 4)
@@ -596,42 +597,26 @@ def intersect_lane(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, blk, lane, tm
 
 
 @inline
-def _lowest(m):
-    """Index of the lowest set bit of a 4-bit lane mask (m != 0)."""
-    if m & 1:
-        return 0
-    if m & 2:
-        return 1
-    if m & 4:
-        return 2
-    return 3
-
-
-@inline
 def n_blocks(cnt):
     """Blocks of a leaf of ``cnt`` triangles (BLOCK = 4)."""
     return (cnt + 3) >> 2
 
 
 @inline
-def leaf_closest(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, tri_ids, ref, cnt, tmin, best_t, best_p, best_u, best_v):
-    """The closest hit so far (t, prim, u, v) after testing the leaf whose blocks start at
-    ``ref`` (``cnt`` triangles): the blocks' masks of lanes hit before the closest so far
-    from ``hit4``, then the scalar test of the lanes set, in lane order (so ties go to
-    the first triangle, as one by one)."""
+def leaf_closest(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, tri_ids, ref, cnt, tmin, best_t, best_p, best_q):
+    """The closest hit so far (t, prim, q) after testing the leaf whose blocks start at
+    ``ref`` (``cnt`` triangles): each block's nearest lane hit before the closest so far
+    (``hit4_nearest``; ties go to the first triangle, as one by one). q = 4 block + lane
+    locates the hit in ``tris`` for its barycentrics, which ``closest_hit`` computes once,
+    for the final hit only."""
     for b in range(ref, ref + n_blocks(cnt)):
         ub = uidx(b)
-        m = hit4(tris, ub, ukx, uky, ukz, okx, oky, okz, sx, sy, sz, tmin, best_t)
-        while m != 0:
-            ln = _lowest(m)
-            m &= m - 1
-            t, u, v = intersect_lane(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, ub, ln, tmin, best_t)
-            if t < best_t:
-                best_t = t
-                best_p = tri_ids[ub, uidx(PRIM_COL + ln)]
-                best_u = u
-                best_v = v
-    return best_t, best_p, best_u, best_v
+        ln, t = hit4_nearest(tris, ub, ukx, uky, ukz, okx, oky, okz, sx, sy, sz, tmin, best_t)
+        if ln >= 0:
+            best_t = t
+            best_p = tri_ids[ub, uidx(PRIM_COL + ln)]
+            best_q = b * BLOCK + ln
+    return best_t, best_p, best_q
 
 
 @inline
@@ -664,10 +649,7 @@ def _inv(d):
 @inline
 def _below(t):
     """The largest float32 not above t (t >= 0)."""
-    f = np.float32(t)
-    if np.float64(f) > t:
-        f = np.nextafter(f, np.float32(-np.inf))
-    return f
+    return f32_below(t)
 
 
 @inline
@@ -726,26 +708,25 @@ def _visit_record(nodes, links, tris, rec, ox, oy, oz, ix, iy, iz, nx, ny, nz, f
 
 
 @inline
-def _closest_step(rf, ru, tmin, nodes, links, tris, tri_ids, stack, fstack, ref, cnt, sp, best_t, best_p, best_u,
-                  best_v):
+def _closest_step(rf, ru, tmin, nodes, links, tris, tri_ids, stack, fstack, ref, cnt, sp, best_t, best_p, best_q):
     """One step of ``closest_hit``: visit the record or leaf (ref, cnt), then pop the next
     child whose box starts within the best hit so far. ``rf``, ``ru`` are the ray's
     constants (``_ray_tuples``; tuples keep the call under CPython's 30 arguments, beyond
     which it becomes a ``*args`` call numba cannot inline). Returns the new state (ref,
-    cnt, sp, best_t, best_p, best_u, best_v) and whether there is a next child."""
+    cnt, sp, best_t, best_p, best_q) and whether there is a next child."""
     ox, oy, oz, ix, iy, iz, sx, sy, sz, okx, oky, okz = rf
     ukx, uky, ukz, nx, ny, nz, fx, fy, fz = ru
     if cnt == 0:
         sp = _visit_record(nodes, links, tris, uidx(ref), ox, oy, oz, ix, iy, iz, nx, ny, nz, fx, fy, fz, best_t,
                            stack, fstack, sp, True)
     else:
-        best_t, best_p, best_u, best_v = leaf_closest(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, tri_ids,
-                                                      ref, cnt, tmin, best_t, best_p, best_u, best_v)
+        best_t, best_p, best_q = leaf_closest(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, tri_ids,
+                                              ref, cnt, tmin, best_t, best_p, best_q)
     while sp > _U0:
         sp -= _U3
         if fstack[sp + _U2] <= best_t:
-            return stack[sp], stack[sp + _U1], sp, best_t, best_p, best_u, best_v, True
-    return ref, cnt, sp, best_t, best_p, best_u, best_v, False
+            return stack[sp], stack[sp + _U1], sp, best_t, best_p, best_q, True
+    return ref, cnt, sp, best_t, best_p, best_q, False
 
 
 @inline
@@ -793,18 +774,22 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     rf, ru = _ray_tuples(ox, oy, oz, dx, dy, dz)
     best_t = tmax
     best_p = -1
-    best_u = 0.0
-    best_v = 0.0
+    best_q = -1
     sp = _U0
     ref = 0  # the child being entered: a record (cnt == 0) or a leaf's blocks
     cnt = 0
     going = True
     while going:
-        ref, cnt, sp, best_t, best_p, best_u, best_v, going = _closest_step(
-            rf, ru, tmin, nodes, links, tris, tri_ids, stack, fstack, ref, cnt, sp, best_t, best_p, best_u, best_v)
+        ref, cnt, sp, best_t, best_p, best_q, going = _closest_step(
+            rf, ru, tmin, nodes, links, tris, tri_ids, stack, fstack, ref, cnt, sp, best_t, best_p, best_q)
     if best_p < 0:
         return np.inf, -1, 0.0, 0.0
-    return best_t, best_p, best_u, best_v
+    # the barycentrics of the hit: the scalar test of its lane, the same operations as
+    # hit4's, so the same t
+    ox, oy, oz, ix, iy, iz, sx, sy, sz, okx, oky, okz = rf
+    ukx, uky, ukz, nx, ny, nz, fx, fy, fz = ru
+    t, u, v = intersect_lane(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, best_q >> 2, best_q & 3, tmin, np.inf)
+    return best_t, best_p, u, v
 
 
 @inline
@@ -911,9 +896,9 @@ def _closest_lanes(orig, dirs, tmax, nodes, tris, lo, hi, t_out, p_out, stacks, 
     j = 0
     while active > 0:
         if l_ray[j] >= 0:
-            ref, cnt, sp, best_t, best_p, u, v, going = _closest_step(
+            ref, cnt, sp, best_t, best_p, q, going = _closest_step(
                 _lane_f(lf, j), _lane_u(lk, j), 0.0, nodes, links, tris, tri_ids, stacks[j], fstacks[j],
-                l_ref[j], l_cnt[j], l_sp[j], l_t[j], l_p[j], 0.0, 0.0)
+                l_ref[j], l_cnt[j], l_sp[j], l_t[j], l_p[j], np.int64(-1))
             if going:
                 _prefetch_child(nodes, tris, ref, cnt)
                 l_ref[j] = ref; l_cnt[j] = cnt; l_sp[j] = sp; l_t[j] = best_t; l_p[j] = best_p

@@ -6,6 +6,9 @@ is the SplitMix64 finaliser (Steele, Lea and Flood, OOPSLA 2014), a bijection on
 64-bit integers with good avalanche.
 """
 import numpy as np
+from llvmlite import ir
+from numba.core import types
+from numba.extending import intrinsic
 
 from ..jit import inline
 
@@ -50,34 +53,59 @@ _B1 = np.uint64(0x55555555)
 _B2 = np.uint64(0x33333333)
 _B4 = np.uint64(0x0F0F0F0F)
 _B8 = np.uint64(0x00FF00FF)
-_TOP = np.uint64(0x80000000)
-_ZERO = np.uint64(0)
+_B16 = np.uint64(0x0000FFFF)
 _INV32 = 1.0 / 4294967296.0  # 2^-32
+
+
+@intrinsic
+def _bitreverse32(typingctx, x):
+    """LLVM's ``bitreverse`` of the low 32 bits of an unsigned 64-bit integer, zero-extended:
+    a few instructions where the shift-and-mask ladder takes some twenty. Compiled into
+    each caller, like ``prefetch``."""
+    if not isinstance(x, types.Integer):
+        return None
+
+    def codegen(context, builder, sig, args):
+        i32 = ir.IntType(32)
+        fn = builder.module.declare_intrinsic("llvm.bitreverse", [i32])
+        r = builder.call(fn, [builder.trunc(args[0], i32)])
+        return builder.zext(r, ir.IntType(64))
+
+    return types.uint64(x), codegen
 
 
 @inline
 def rev32(x):
     """The 32 low bits of x in reverse order."""
-    v = ((x >> _S1) & _B1) | ((x & _B1) << _S1)
-    v = ((v >> _S2) & _B2) | ((v & _B2) << _S2)
-    v = ((v >> _S4) & _B4) | ((v & _B4) << _S4)
-    v = ((v >> _S8) & _B8) | ((v & _B8) << _S8)
-    return ((v >> _S16) | (v << _S16)) & _LO32
+    return _bitreverse32(np.uint64(x))
+
+
+@inline
+def pascal32(i):
+    """The 32 low bits of ``i`` times Pascal's matrix mod 2, bit m of the result the XOR of
+    the bits k ⊇ m of ``i`` (binom(k, m) is odd iff the bits of m are among those of k, by
+    Lucas' theorem): the subset-sum transform over the five bits of a bit position, one
+    shift-and-mask step per bit. Reversed, it is the second dimension of Sobol's sequence
+    (sobol_bits), whose direction numbers are the rows of that matrix."""
+    w = np.uint64(i) & _LO32
+    w ^= (w >> _S1) & _B1
+    w ^= (w >> _S2) & _B2
+    w ^= (w >> _S4) & _B4
+    w ^= (w >> _S8) & _B8
+    w ^= (w >> _S16) & _B16
+    return w
 
 
 @inline
 def sobol_bits(index, second):
-    """The 32-bit binary fraction of point ``index`` of the (0, 2)-sequence (see sobol_02)."""
+    """The 32-bit binary fraction of point ``index`` of the (0, 2)-sequence (see sobol_02):
+    the index's bits reversed (van der Corput), or for the second dimension the XOR of the
+    direction numbers d_0 = 1/2, d_(k+1) = d_k ^ (d_k >> 1) picked by the index's bits,
+    computed as rev32(pascal32(index))."""
     i = np.uint64(index) & _LO32
     if second == 0:
         return rev32(i)
-    v = _ZERO
-    d = _TOP
-    while i != _ZERO:
-        v ^= d & (_ZERO - (i & _S1))  # d where the bit is set: no data-dependent branch
-        i >>= _S1
-        d ^= d >> _S1
-    return v
+    return rev32(pascal32(i))
 
 
 @inline
@@ -157,7 +185,8 @@ def sobol_pair_both(index, pseed, pair):
     h = mix64(np.uint64(pseed) ^ (np.uint64(pair) * _GOLDEN + _M2))
     j = rev32(_shuffle_rev(index, h))
     u = float(rev32(_lk(j, h >> _S32))) * _INV32
-    v = float(owen32(sobol_bits(j, 1), (h >> _S32) ^ np.uint64(0x9E3779B9))) * _INV32
+    # owen32(sobol_bits(j, 1), s) with the two reversals that cancel left out
+    v = float(rev32(_lk(pascal32(j), (h >> _S32) ^ np.uint64(0x9E3779B9)))) * _INV32
     return u, v
 
 
@@ -172,4 +201,4 @@ def sobol_pair(index, comp, pseed, pair):
     j = rev32(_shuffle_rev(index, h))
     if comp == 0:
         return float(rev32(_lk(j, seed))) * _INV32
-    return float(owen32(sobol_bits(j, 1), seed)) * _INV32
+    return float(rev32(_lk(pascal32(j), seed))) * _INV32

@@ -564,7 +564,7 @@ def intersect_lane(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, blk, lane, tm
     (negated) in both its triangles, so no ray slips between them. Returns (t, u, v)
     with u, v the weights of v1, v2; t = inf on a miss. ``simd.hit4`` computes the same
     edge functions and distance for the four lanes of a block at once, so the traversal
-    calls this only for the lanes it reports hit.
+    calls this only for its final closest hit, for the barycentrics.
     """
     q = uidx(blk)
     ln = uidx(lane)

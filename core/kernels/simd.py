@@ -34,6 +34,7 @@ def _splat(builder, x):
 
 
 def _hit4_args_ok(tris, ints, floats):
+    """The typing rule of the triangle tests: float32 blocks, integer indices, float64 ray."""
     if not isinstance(tris, types.Array) or tris.ndim != 2 or tris.dtype != types.float32:
         return False
     return all(isinstance(a, types.Integer) for a in ints) and all(a == types.float64 for a in floats)

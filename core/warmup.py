@@ -156,7 +156,7 @@ def finish(proc, grace=0.0):
         return
     try:
         proc.wait(timeout=max(0.0, grace))
-    except Exception:  # noqa: BLE001 - still running: stopped below
+    except subprocess.TimeoutExpired:  # still running: stopped below
         pass
     try:
         if proc.poll() is None:

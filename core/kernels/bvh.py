@@ -647,12 +647,6 @@ def _inv(d):
 
 
 @inline
-def _below(t):
-    """The largest float32 not above t (t >= 0)."""
-    return f32_below(t)
-
-
-@inline
 def _prefetch_child(nodes, tris, ref, cnt):
     """Start loading a child the traversal will visit later: its record (two lines) or
     every line of its leaf's blocks."""
@@ -670,7 +664,7 @@ def _push(stack, fstack, sp, links, rec, c, t):
     if t < np.inf:
         stack[sp] = links[rec, uidx(C_REF + c)]
         stack[sp + _U1] = links[rec, uidx(C_CNT + c)]
-        fstack[sp + _U2] = _below(t)
+        fstack[sp + _U2] = f32_below(t)
         return sp + _U3
     return sp
 
@@ -788,7 +782,8 @@ def closest_hit(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
     # hit4's, so the same t
     ox, oy, oz, ix, iy, iz, sx, sy, sz, okx, oky, okz = rf
     ukx, uky, ukz, nx, ny, nz, fx, fy, fz = ru
-    t, u, v = intersect_lane(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, best_q >> 2, best_q & 3, tmin, np.inf)
+    t, u, v = intersect_lane(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, best_q // BLOCK, best_q % BLOCK, tmin,
+                             np.inf)
     return best_t, best_p, u, v
 
 

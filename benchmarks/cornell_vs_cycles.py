@@ -18,6 +18,8 @@ import sys
 import tempfile
 import time
 
+import results  # benchmarks/results.py: the JSON record of this run (benchmarks/ is on sys.path)
+
 import numpy as np
 
 
@@ -120,6 +122,12 @@ def main(argv=None):
           f"{1.0 / (t_ours * var_ours):.4g}")
     ratio = lum(ours_rgb).mean() / lum(cyc_rgb).mean()
     print(f"  mean luminance spectral-gi / Cycles: {ratio:.4f}")
+    results.write("cornell_vs_cycles", [results.table(
+        f"Cornell box {args.size}², {args.spp} spp, max bounces {args.bounces}, {args.threads} threads",
+        ["renderer", "time (s)", "M samples/s", "mean luminance / Cycles'"],
+        [["spectral-gi (export + render)", round(t_ours, 2), round(samples / t_ours / 1e6, 3), round(float(ratio), 4)],
+         ["Cycles", round(t_cycles, 2), round(samples / t_cycles / 1e6, 3), 1.0]])],
+        conditions={"size": args.size, "spp": args.spp, "bounces": args.bounces, "threads": args.threads})
     return 0
 
 

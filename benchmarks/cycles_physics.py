@@ -26,6 +26,8 @@ import shutil
 import sys
 import tempfile
 
+import results  # benchmarks/results.py: the JSON record of this run (benchmarks/ is on sys.path)
+
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -269,14 +271,25 @@ def main(argv=None):
     import bpy
 
     tmp = tempfile.mkdtemp(prefix="sgi-physics-")
+    rows = []
     try:
         if "patches" in args.only:
             for light in ("D65", "FL11"):
-                run_patches(bpy, light, args, tmp)
+                report, de = run_patches(bpy, light, args, tmp)
+                rows.append([f"ColorChecker under {light}", round(report["luminance_ratio"], 4),
+                             round(report["delta_e00_mean"], 2)]
+                            + [f"{v.mean():.2f} / {v.max():.2f}" for v in de.values()])
         if "prism" in args.only:
-            run_prism(bpy, args, tmp)
+            report = run_prism(bpy, args, tmp)
+            rows.append([f"{GLASS} sphere (dispersion)", round(report["luminance_ratio"], 4),
+                         round(report["delta_e00_mean"], 2), "", "", "", ""])
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
+    results.write("cycles_physics", [results.table(
+        f"Where physics makes the renderers differ ({args.spp} spp); per patch ΔE00 mean / max relative to the "
+        "light's white", ["scene", "luminance ratio", "image ΔE00 mean (D65 white)", "spectral-gi vs spectra",
+                          "Cycles vs spectra", "RGB product vs spectra", "spectral-gi vs Cycles"], rows)],
+        conditions={"spp": args.spp, "patch_size": list(args.patch_size), "prism_size": list(args.prism_size)})
     return 0
 
 

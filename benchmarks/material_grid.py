@@ -26,6 +26,8 @@ import sys
 import tempfile
 import time
 
+import results  # benchmarks/results.py: the JSON record of this run (benchmarks/ is on sys.path)
+
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -310,6 +312,13 @@ def main(argv=None):
     if warning:
         print(f"  export warning: {warning}")
     print(f"  wrote {os.path.join(args.out, 'material_grid.png')} and material_grid_cycles.png")
+    ratio = float((ours @ lum).mean() / (cyc @ lum).mean())
+    results.write("material_grid", [results.table(
+        f"Material grid {w}×{h}, {args.spp} spp, max bounces {args.bounces}, {args.threads} threads",
+        ["renderer", "time (s)", "M samples/s", "mean luminance / Cycles'"],
+        [["spectral-gi (export + render)", round(t_ours, 2), round(px / t_ours / 1e6, 3), round(ratio, 4)],
+         ["Cycles", round(t_cyc, 2), round(px / t_cyc / 1e6, 3), 1.0]])],
+        conditions={"spp": args.spp, "bounces": args.bounces, "threads": args.threads, "size": [w, h]})
     return 0
 
 

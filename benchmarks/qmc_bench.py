@@ -21,6 +21,8 @@ import argparse
 import math
 import time
 
+import results  # benchmarks/results.py: the JSON record of this run
+
 import numpy as np
 from scipy import integrate
 
@@ -71,6 +73,7 @@ def main():
             f"{'1/(T σ²)':>12}{'eff ratio':>11}{'|bias|/se':>10}")
     print(head)
     print("-" * len(head))
+    rows = []
     for n in NS:
         ref = None
         for name, sampler, randomize in SAMPLERS:
@@ -86,8 +89,15 @@ def main():
             print(f"{n:>5}  {name:<24}{s.variance:>11.3e}{ref.variance / s.variance:>11.1f}"
                   f"{1e3 * s.time_per_sample:>9.3f}{s.efficiency:>12.3e}{s.efficiency / ref.efficiency:>11.1f}"
                   f"{bias:>10.2f}")
+            rows.append([n, name, s.variance, ref.variance / s.variance, 1e3 * s.time_per_sample, s.efficiency,
+                         s.efficiency / ref.efficiency, bias])
         print()
     print("var ratio: independent variance / this sampler's (higher is better); T is one N-sample estimate.")
+    results.write("qmc_bench", [results.table(
+        f"Irradiance under a smooth sky, E = {exact:.10f}: variance of one N-sample estimate, {args.reps} "
+        "randomisations per cell; ratios against the independent sampler (higher is better)",
+        ["N", "sampler", "variance", "var ratio", "T (ms)", "1/(T σ²)", "eff ratio", "|bias|/se"], rows)],
+        conditions={"reps": args.reps})
 
 
 if __name__ == "__main__":

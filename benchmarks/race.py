@@ -39,6 +39,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import cornell_vs_cycles as cvc  # noqa: E402
 import peers  # noqa: E402
+import results  # noqa: E402  (benchmarks/results.py: the JSON record of this run)
 
 REC709_Y = np.array([0.2126, 0.7152, 0.0722])
 SAMPLER = None  # --sampler: this renderer's sampler (None: the exported scene's, the add-on's default stratified)
@@ -95,6 +96,9 @@ def speed(args, scene_bpy, tmp):
     print(f"  ratio spectral-gi/Cycles samples/s: {t_cyc / t_ours:.2f}x (target >= 2)")
     print(f"  mean luminance spectral-gi / Cycles: "
           f"{(ours_rgb @ REC709_Y).mean() / (cyc @ REC709_Y).mean():.4f}")
+    rows = [["spectral-gi", round(t_ours, 2), round(samples / t_ours / 1e6, 3), "", ""],
+            ["Cycles", round(t_cyc, 2), round(samples / t_cyc / 1e6, 3), round(t_cyc / t_ours, 2),
+             round(float((ours_rgb @ REC709_Y).mean() / (cyc @ REC709_Y).mean()), 4)]]
     try:
         ref = core.cornell_box(args.size, args.size)
         times, mimg = peers.render_mitsuba(ref, args.spp, args.bounces + 2, threads=args.threads)
@@ -107,8 +111,15 @@ def speed(args, scene_bpy, tmp):
         f2, _ = core.render(ref, threads=args.threads)
         print(f"  mean luminance spectral-gi / Mitsuba (core Cornell box): "
               f"{(f2.develop().rgb @ REC709_Y).mean() / (mimg @ REC709_Y).mean():.4f}")
+        rows.append([f"Mitsuba 3 {times['variant']}", round(t_m, 2), round(samples / t_m / 1e6, 3),
+                     round(t_m / t_ours, 2),
+                     round(float((f2.develop().rgb @ REC709_Y).mean() / (mimg @ REC709_Y).mean()), 4)])
     except Exception as e:  # a missing peer is reported, not fatal
         print(f"  Mitsuba: not run ({e})")
+    return results.table(f"Speed: Cornell box {args.size}², {args.spp} spp, max bounces {args.bounces}, "
+                         f"{args.threads} threads, fastest of {max(1, args.rounds)} rounds",
+                         ["renderer", "time (s)", "M samples/s", "spectral-gi's speed / this one's",
+                          "mean luminance spectral-gi / this one"], rows)
 
 
 def rel_rmse(y, ref):
@@ -137,6 +148,10 @@ def equal_time(args, scene_bpy, tmp):
           f"relative RMSE {e_o:.4f}")
     print(f"  Cycles     : {spp_c} spp in {t_c:.1f} s (sample count calibrated to the time)  relative RMSE {e_c:.4f}")
     print(f"  RMSE ratio Cycles/spectral-gi: {e_c / e_o:.2f}x (target > 1)")
+    return results.table(f"Equal time: {secs:g} s each at {size}², relative RMSE of luminance",
+                         ["renderer", "spp reached", "render time (s)", "relative RMSE"],
+                         [["spectral-gi", spp_o, round(st.seconds, 1), round(e_o, 4)],
+                          ["Cycles", spp_c, round(t_c, 1), round(e_c, 4)]])
 
 
 def overhead(args):
@@ -166,6 +181,9 @@ def overhead(args):
     print(f"[spectral overhead] core Cornell box {args.size}x{args.size}, {args.overhead_spp} spp")
     print(f"  grey reflectances: {t_g:.2f} s   uplifted colours: {t_c:.2f} s   "
           f"overhead {100 * (t_c / t_g - 1):+.1f} % (target <= 30 %)")
+    return results.table(f"Spectral overhead: core Cornell box {args.size}², {args.overhead_spp} spp",
+                         ["grey reflectances (s)", "uplifted colours (s)", "overhead"],
+                         [[round(t_g, 2), round(t_c, 2), f"{100 * (t_c / t_g - 1):+.1f} %"]])
 
 
 def main(argv=None):
@@ -200,12 +218,15 @@ def main(argv=None):
     core.render(warm, threads=args.threads)
     print(f"kernel compile/load: {time.perf_counter() - t0:.1f} s")
     tmp = tempfile.mkdtemp(prefix="sgi-race-")
+    tables = []
     if "speed" not in skip:
-        speed(args, scene_bpy, tmp)
+        tables.append(speed(args, scene_bpy, tmp))
     if "rmse" not in skip:
-        equal_time(args, scene_bpy, tmp)
+        tables.append(equal_time(args, scene_bpy, tmp))
     if "overhead" not in skip:
-        overhead(args)
+        tables.append(overhead(args))
+    results.write("race", tables, conditions={k: getattr(args, k) for k in (
+        "size", "spp", "bounces", "threads", "rounds", "seconds", "rmse_size", "overhead_spp", "skip", "sampler")})
     return 0
 
 

@@ -23,6 +23,8 @@ import sys
 import tempfile
 import time
 
+import results  # benchmarks/results.py: the JSON record of this run (benchmarks/ is on sys.path)
+
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -182,6 +184,14 @@ def main(argv=None):
           f"{report['luminance_ratio']:.4f}, relative RMSE {report['relative_rmse']:.4f}, ΔE00 mean "
           f"{report['delta_e00_mean']:.2f}, p95 {report['delta_e00_p95']:.2f}; spectral-gi "
           f"{report['seconds_spectral_gi']:.1f} s, Cycles {report['seconds_cycles']:.1f} s")
+    results.write("readme_compare", [results.table(
+        f"Compare with Cycles on the diffuse + plastic scene, {width}×{height}, {report['samples']} spp, "
+        f"{report['max_bounces']} bounces",
+        ["luminance ratio", "relative RMSE", "ΔE00 mean", "ΔE00 p95", "spectral-gi (s)", "Cycles (s)"],
+        [[round(report["luminance_ratio"], 4), round(report["relative_rmse"], 4),
+          round(report["delta_e00_mean"], 2), round(report["delta_e00_p95"], 2),
+          round(report["seconds_spectral_gi"], 1), round(report["seconds_cycles"], 1)]])],
+        conditions={"size": [width, height], "spp": args.spp, "bounces": args.bounces})
     return 0
 
 

@@ -42,6 +42,8 @@ import math
 import re
 import time
 
+import results  # benchmarks/results.py: the JSON record of this run (benchmarks/ is on sys.path)
+
 import numpy as np
 
 N_SPHERES = 256
@@ -380,6 +382,26 @@ def main():
                   f"| {r['one_path'] / 1e6:.2f} "
                   f"| {r['one_closest'] / r0['one_closest']:.3f} | {r['one_occluded'] / r0['one_occluded']:.3f} "
                   f"| {r['one_path'] / r0['one_path']:.3f} | {math.log2(r0['n']) / math.log2(r['n']):.3f} |")
+    tables = [results.table(
+        f"BVH build and batch traversal, {threads} threads, {args.rays:,d} camera rays and their shadow rays, "
+        f"best of {args.reps} rounds; rays per CPU second",
+        ["triangles", "build s (CPU s)", "kept B/tri", "peak build B/tri", "depth", "closest M/CPU-s",
+         "occlusion M/CPU-s", "closest ratio", "occlusion ratio", "log2(N0)/log2(N)"],
+        [[r["n"], f"{r['build']:.2f} ({r['build_cpu']:.2f})", round(r["kept"], 1), round(r["peak"], 1), r["depth"],
+          round(r["closest_cpu"] / 1e6, 2), round(r["occluded_cpu"] / 1e6, 2),
+          round(r["closest_cpu"] / r0["closest_cpu"], 3), round(r["occluded_cpu"] / r0["occluded_cpu"], 3),
+          round(math.log2(r0["n"]) / math.log2(r["n"]), 3)] for r in rows])]
+    if args.one_ray:
+        tables.append(results.table(
+            "The path kernel's one-ray traversal (serial, 1 thread, first 300,000 rays), rays per CPU second",
+            ["triangles", "closest M/CPU-s", "occlusion M/CPU-s", "path order M/CPU-s", "closest ratio",
+             "occlusion ratio", "path order ratio", "log2(N0)/log2(N)"],
+            [[r["n"], round(r["one_closest"] / 1e6, 2), round(r["one_occluded"] / 1e6, 2),
+              round(r["one_path"] / 1e6, 2), round(r["one_closest"] / r0["one_closest"], 3),
+              round(r["one_occluded"] / r0["one_occluded"], 3), round(r["one_path"] / r0["one_path"], 3),
+              round(math.log2(r0["n"]) / math.log2(r["n"]), 3)] for r in rows]))
+    results.write("scale_bench", tables, conditions={"sizes": args.sizes, "rays": args.rays, "threads": threads,
+                                                     "reps": args.reps, "one_ray": args.one_ray})
 
 
 if __name__ == "__main__":

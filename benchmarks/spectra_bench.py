@@ -21,6 +21,8 @@ import time
 
 import numpy as np
 
+import results  # benchmarks/results.py: the JSON record of this run
+
 from spectral_gi.core import constants as C
 from spectral_gi.core.colour import XYZ_to_Lab, XYZ_to_xy, delta_E_CIE2000, sd_to_XYZ
 from spectral_gi.core.kernels import spectrum as K
@@ -78,6 +80,11 @@ def accuracy():
         _, m, _, de = default[0]
         ok = all(de[l].mean() <= 0.5 and de[l].max() <= 1.5 for l in LIGHTS)
         print(f"default m = {m}: target mean ΔE00 ≤ 0.5 and max ≤ 1.5 under each light: {'met' if ok else 'NOT met'}")
+    return results.table(
+        "ColorChecker (24 patches): spectral RMS (380–730 nm) and ΔE00 mean / max under each light",
+        ["method", "m", "RMS mean"] + [f"{l} ΔE00 mean / max" for l in LIGHTS],
+        [[method, m, round(float(rms.mean()), 4)] + [f"{de[l].mean():.2f} / {de[l].max():.2f}" for l in LIGHTS]
+         for method, m, rms, de in rows])
 
 
 def speed():
@@ -91,6 +98,7 @@ def speed():
     n = 4_000_000
     rng = np.random.default_rng(1)
     lams = rng.uniform(C.LAMBDA_MIN, C.LAMBDA_MAX, n)
+    timings = []
     for label, rows in (("bounded (reflectance)", rng.integers(0, 24, n)), ("unbounded (emission)", np.full(n, 24))):
         rows = rows.astype(np.int64)
         K.eval_spectrum_batch(prep, kinds, m, warp, rows[:10], lams[:10])  # compile / load cache
@@ -103,6 +111,7 @@ def speed():
         print(f"evaluation in a Numba kernel, m = {m}, {label}: {best / n * 1e9:.1f} ns per evaluation "
               f"({numba.get_num_threads()} threads; {best / n * 1e9 * numba.get_num_threads():.1f} ns per "
               f"evaluation per thread)")
+        timings.append([f"moments evaluated in a kernel, {label}", round(best / n * 1e9, 1)])
     # the renderer's own path: a 1 nm table built once per render, interpolated
     table = M.tabulate(coeffs, kinds)
     rows32 = rng.integers(0, 25, n).astype(np.int64)
@@ -113,6 +122,10 @@ def speed():
         _table_lookups(table, rows32, lams)
         best = min(best, time.perf_counter() - t0)
     print(f"1 nm table lookup as the path tracer does it: {best / n * 1e9:.1f} ns per evaluation")
+    timings.append(["1 nm table lookup, as the path tracer does it", round(best / n * 1e9, 1)])
+    import numba
+    return results.table(f"Spectrum evaluation, m = {m}, {numba.get_num_threads()} threads",
+                         ["evaluation", "ns per evaluation"], timings)
 
 
 def _make_lookup_kernel():
@@ -135,5 +148,6 @@ _table_lookups = _make_lookup_kernel()
 
 
 if __name__ == "__main__":
-    accuracy()
-    speed()
+    tables = [accuracy(), speed()]
+    import numba
+    results.write("spectra_bench", tables, conditions={"threads": numba.get_num_threads()})

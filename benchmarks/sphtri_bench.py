@@ -36,6 +36,8 @@ import time
 
 import numpy as np
 
+import results  # benchmarks/results.py: the JSON record of this run
+
 from spectral_gi import core
 from spectral_gi.core import constants as C
 from spectral_gi.core.scene import (TRI_SOLID_ANGLE_MAX, TRI_SOLID_ANGLE_MIN, Camera, Material, Mesh, RenderSettings,
@@ -147,6 +149,10 @@ def cornell_cost(reps=3):
     for name, _ in rules:
         print(f"  {name:20s} CPU {best[name]:5.2f} s  {128 * 128 * 16 / best[name] / 1e6:.3f} M samples/s"
               f"  ({best[name] / best['area only']:.3f}x area's time)")
+    return results.table(f"Cost on the Cornell box, 128², 16 spp, 4 bounces, 1 thread, best CPU time of {reps}",
+                         ["rule", "CPU s", "M samples/s", "time / area only's"],
+                         [[name, round(best[name], 2), round(128 * 128 * 16 / best[name] / 1e6, 3),
+                           round(best[name] / best["area only"], 3)] for name, _ in rules])
 
 
 def main():
@@ -164,6 +170,7 @@ def main():
     render(cornell_scene, 8, 1, DEFAULT, 0)  # compile
     print(f"rule: solid angle in [{DEFAULT[0]:g}, {DEFAULT[1]:g}] sr; {a.res}² px, sampler {a.sampler}, 1 thread, "
           "CPU time")
+    rows = []
     for name in a.scenes.split(","):
         make = SCENES[name]
         ra, _ = render(make, a.res, a.ref_spp // 2, AREA_ONLY, 101)
@@ -183,14 +190,24 @@ def main():
         print(f"  solid angle    {a.spp:5d} spp  CPU {ts:6.2f} s  rel. RMSE {es:.4f}  (x{es / ea:.3f} at equal spp)")
         print(f"  solid angle    {spp_eq:5d} spp  CPU {te:6.2f} s  rel. RMSE {ee:.4f}  (x{ee / ea:.3f} at equal time)")
         print(f"  efficiency 1/(T σ²) ratio solid angle / area: {eff:.2f}")
+        rows.append([name, round(ea, 4), round(es, 4), round(es / ea, 3), spp_eq, round(ee, 4), round(ee / ea, 3),
+                     round(eff, 2)])
         if a.sweep:
             print(f"  sweep at {a.spp} spp: (min, max) sr   rel. RMSE   CPU s   efficiency / area's")
             for rule in SWEEP:
                 img, t = render(make, a.res, a.spp, rule, 1)
                 e = rel_rmse(img, ref)
                 print(f"  ({rule[0]:g}, {rule[1]:.4g}){'':12s}{e:9.4f}  {t:6.2f}   {ta * ea * ea / (t * e * e):5.2f}")
+    tables = [results.table(
+        f"Relative RMSE of luminance against a {a.ref_spp}-spp reference, {a.res}² px, sampler {a.sampler}, "
+        f"1 thread: area sampling only against the default rule (solid angle for Ω in [{DEFAULT[0]:g}, "
+        f"{DEFAULT[1]:g}] sr)",
+        ["scene", f"area only, {a.spp} spp", f"solid angle, {a.spp} spp", "ratio", "equal-time spp",
+         "solid angle, equal time", "ratio", "efficiency ratio"], rows)]
     if not a.no_cost:
-        cornell_cost()
+        tables.append(cornell_cost())
+    results.write("sphtri_bench", tables, conditions={"res": a.res, "spp": a.spp, "ref_spp": a.ref_spp,
+                                                      "sampler": a.sampler, "threads": 1})
 
 
 if __name__ == "__main__":

@@ -2,7 +2,7 @@
 
     python benchmarks/peers.py            # set up (once) and print what is available
 
-Mitsuba's LLVM variants (``llvm_ad_spectral``) need LLVM ≥ 16 (facts.md: with LLVM 15
+Mitsuba's LLVM variants (``llvm_ad_spectral``) need LLVM ≥ 16 (measured here: with LLVM 15
 they abort). The set-up makes ``benchmarks/.peers/`` (git-ignored) with
 
 * ``venv/``: a virtual environment with ``mitsuba`` from PyPI (it brings ``drjit``);

@@ -1,4 +1,4 @@
-"""The speed race of issue #5: this renderer against Cycles and Mitsuba 3 on the Cornell box.
+"""The speed race: this renderer against Cycles and Mitsuba 3 on the Cornell box.
 
     python benchmarks/race.py [--spp 256] [--bounces 4] [--size 256] [--threads 2] [--rounds 2]
                               [--seconds 10] [--rmse-size 128] [--skip speed,rmse,overhead]
@@ -10,7 +10,7 @@ Three measurements, each printed with its figures and ratios:
    this renderer (export + BVH + render, kernels already compiled), Cycles (CPU, no
    denoising, adaptive sampling or clamping; its scene sync included) and Mitsuba 3
    ``llvm_ad_spectral`` from PyPI (benchmarks/peers.py; max_depth = bounces + 2, which
-   facts.md measured to be the same path length; the warm render is timed, its first
+   is the same path length by Mitsuba 3's path-integrator docs; the warm render is timed, its first
    render including Dr.Jit's compilation is printed too). Mitsuba renders the core's
    own Cornell box (same published geometry and spectra). Targets: ≥ Mitsuba's
    samples/s and ≥ 2× Cycles'. This renderer and Cycles run ``--rounds`` times each in

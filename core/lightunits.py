@@ -5,7 +5,7 @@ area lights, luminous intensity (cd) for point and spot lights, illuminance (lux
 the sun. This module turns what a Blender user types into those numbers:
 
 * Blender's own units, read as Cycles reads them (measured in Cycles 5.0, see
-  shared/design/facts.md) with this project's convention 1 Blender W = 683 lm
+  tests/addon/test_addon_compare.py) with this project's convention 1 Blender W = 683 lm
   (core/units.py):
 
   - point and spot lights of power P (W) have a radiant intensity of P/(4π) W/sr in

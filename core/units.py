@@ -6,7 +6,7 @@ Blender unit for white is a luminance of 683 cd/m² (K_m · Y). With this conven
 Cycles pixel value equals this renderer's linear Rec.709 value for the same scene,
 and EXR files carry whiteLuminance = 683 cd/m².
 
-Cycles' conventions (measured in Cycles 5.0, see shared/design/facts.md):
+Cycles' conventions (measured in Cycles 5.0 renders; tests/addon/test_addon_compare.py checks them):
 * Emission shader: radiance = strength · colour.
 * Area light of power P (W) and area A (m²): radiance = P / (π A) · colour.
 """

@@ -1,4 +1,4 @@
-"""Where spectral-gi and Cycles disagree by physics, rendered by both (the README's worked example).
+"""Where spectral-gi and Cycles disagree by physics, rendered by both (the worked example of docs/validation/cycles.md).
 
     python benchmarks/cycles_physics.py [--spp 64] [--out docs/images] [--only patches,prism]
 

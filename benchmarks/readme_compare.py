@@ -1,4 +1,4 @@
-"""The README's "Compare with Cycles" images, made by the operator's own code path.
+"""The "Compare with Cycles" images of docs/validation/cycles.md, made by the operator's own code path.
 
     python benchmarks/readme_compare.py [--spp 128] [--size 160x120] [--out docs/images]
 

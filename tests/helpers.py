@@ -1,4 +1,7 @@
 """Small scene builders shared by the core tests."""
+import struct
+import zlib
+
 import numpy as np
 
 from spectral_gi.core import constants as C
@@ -71,3 +74,23 @@ def disk_over_plane_scene(radius=0.5, height=1.0, rho=0.8, luminance=1000.0, kin
     cam = Camera(look_at((0, 0, 0.5 * height), (0, 0, 0), up=(0, 1, 0)), width=res, height=res, lens_mm=2000.0)
     return Scene(meshes=[plane], spectra=spectra, materials=[Material("plane", reflectance=r)], lights=[light],
                  camera=cam, settings=RenderSettings(spp=spp, max_depth=0, seed=3))
+
+
+def read_png_rgb8(path):
+    """Read back a PNG written by the product's PNG writer (8-bit RGB, filter 0 only). For tests."""
+    data = open(path, "rb").read()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    pos = 8
+    idat = b""
+    w = h = 0
+    while pos < len(data):
+        (n,) = struct.unpack(">I", data[pos:pos + 4])
+        tag = data[pos + 4:pos + 8]
+        body = data[pos + 8:pos + 8 + n]
+        if tag == b"IHDR":
+            w, h = struct.unpack(">II", body[:8])
+        elif tag == b"IDAT":
+            idat += body
+        pos += 12 + n
+    raw = np.frombuffer(zlib.decompress(idat), np.uint8).reshape(h, 1 + 3 * w)
+    return raw[:, 1:].reshape(h, w, 3)

@@ -458,7 +458,7 @@ def test_plastic_renders_in_the_path_kernel():
     index-matched plastic (η = 1) is a Lambertian ρ, so L = L_e / (1 − ρ); with η = 1.5 the
     albedo A(θ) lies between its extremes, so L_e/(1 − A_min) ≤ L ≤ L_e/(1 − A_max)."""
     from helpers import furnace_scene
-    from spectral_gi.core import renderer as R
+    from spectral_gi.core.integrators import render as R
     from spectral_gi.core.film import develop
     rho, le = 0.5, 100.0
     for ior in (1.0, 1.5):

@@ -2,9 +2,10 @@
 import numpy as np
 import pytest
 
-from spectral_gi.core import accel
+from spectral_gi.core.geometry import accel
+from oracles.geometry import brute_force_closest
 from spectral_gi.core.jit import set_threads
-from spectral_gi.core.kernels import bvh as K
+from spectral_gi.core.geometry import bvh as K
 
 
 def _soup(rng, n, spread=1.0, size=0.1):
@@ -33,7 +34,7 @@ def test_closest_hit_matches_brute_force(n_tri, seed):
     bvh = accel.build(v0, v1, v2)
     o, d = _rays(rng, 3000, tris=(v0, v1, v2))
     t, tri = accel.closest(bvh, o, d)
-    tb, trib = accel.brute_force_closest(v0, v1, v2, o, d)
+    tb, trib = brute_force_closest(v0, v1, v2, o, d)
     hit = np.isfinite(tb)
     assert hit.sum() > 30
     assert np.array_equal(np.isfinite(t), hit)
@@ -58,7 +59,7 @@ def test_axis_aligned_and_degenerate_input():
     bvh = accel.build(v0, v1, v2)
     o, d = _rays(rng, 4000, tris=(v0, v1, v2))
     t, _ = accel.closest(bvh, o, d)
-    tb, _ = accel.brute_force_closest(v0, v1, v2, o, d)
+    tb, _ = brute_force_closest(v0, v1, v2, o, d)
     assert np.array_equal(np.isfinite(t), np.isfinite(tb))
     np.testing.assert_allclose(t[np.isfinite(t)], tb[np.isfinite(tb)], rtol=1e-4, atol=1e-6)
 
@@ -277,7 +278,7 @@ def test_depth_is_bounded_for_pathological_input():
     d = target - o
     d /= np.linalg.norm(d, axis=1)[:, None]
     t, tri = accel.closest(bvh, o, d)
-    tb, trib = accel.brute_force_closest(v0, v1, v2, o, d)
+    tb, trib = brute_force_closest(v0, v1, v2, o, d)
     assert np.array_equal(np.isfinite(t), np.isfinite(tb)) and np.isfinite(t).mean() > 0.9
     # a few rays graze the 1e-20-sized triangles at the cluster point, far below the
     # origin's float64 resolution: there a box may miss what the triangle test grazes
@@ -338,7 +339,7 @@ def test_nearest_lane_of_a_block_is_the_scalar_tests():
     hit, miss, start inside the interval's ends and pass through shared edges."""
     import numba
 
-    from spectral_gi.core.kernels.simd import hit4_nearest
+    from spectral_gi.core.geometry.simd import hit4_nearest
 
     @numba.njit
     def nearest(tris, blk, rf, ru, tmin, tmax):
@@ -372,7 +373,7 @@ def test_entry_distances_round_down_to_float32():
     """simd.f32_below: the largest float32 not above t, as np.nextafter finds it."""
     import numba
 
-    from spectral_gi.core.kernels.simd import f32_below
+    from spectral_gi.core.geometry.simd import f32_below
 
     @numba.njit
     def below(a):

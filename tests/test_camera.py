@@ -7,9 +7,9 @@ from chi2 import alpha, chi2_interval  # noqa: F401  (alpha: the Šidák-correct
 from helpers import flat_emission
 
 from spectral_gi.core import constants as C
-from spectral_gi.core import renderer as R
+from spectral_gi.core.integrators import render as R
 from spectral_gi.core.film import develop
-from spectral_gi.core.kernels.camera import filter_function, filter_offset, filter_table
+from spectral_gi.core.camera.kernel import filter_function, filter_offset, filter_table
 from spectral_gi.core.scene import Camera, Light, RenderSettings, Scene, SceneError, SpectrumTable, validate
 
 LUM = 100.0

@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from spectral_gi.core.io.exr import read_channels
-from spectral_gi.core.io.png import read_png_rgb8
+from helpers import read_png_rgb8
 
-CLI = [sys.executable, "-m", "spectral_gi.core.cli"]
+CLI = [sys.executable, "-m", "spectral_gi.cli"]
 
 
 def run(args, cwd, **kw):

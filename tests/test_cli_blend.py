@@ -7,7 +7,7 @@ import textwrap
 import numpy as np
 import pytest
 
-from spectral_gi.core.cli import main
+from spectral_gi.cli import main
 
 
 def test_missing_file(tmp_path, capsys):
@@ -27,7 +27,7 @@ def test_not_a_blend_file(tmp_path, capsys):
 def test_bpy_missing(tmp_path):
     p = tmp_path / "fake.blend"
     p.write_bytes(b"BLENDER-v500" + bytes(64))  # passes the header check; bpy is then needed
-    code = ("import sys; sys.modules['bpy'] = None; from spectral_gi.core.cli import main; "
+    code = ("import sys; sys.modules['bpy'] = None; from spectral_gi.cli import main; "
             f"sys.exit(main(['render-blend', {str(p)!r}]))")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert proc.returncode == 1
@@ -78,7 +78,7 @@ def _make_blend(path, *flags):
 
 
 def _cli(*args, timeout=1200):
-    return subprocess.run([sys.executable, "-m", "spectral_gi.core.cli", "render-blend", *map(str, args)],
+    return subprocess.run([sys.executable, "-m", "spectral_gi.cli", "render-blend", *map(str, args)],
                           capture_output=True, text=True, timeout=timeout)
 
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from spectral_gi.core import colour as C
-from spectral_gi.core import presets
+from spectral_gi.core.io import presets
 
 with warnings.catch_warnings():
     warnings.simplefilter("ignore")  # colour warns about the missing matplotlib

@@ -8,12 +8,12 @@ import pytest
 from helpers import flat_emission, look_at
 
 from spectral_gi.core import constants as C
-from spectral_gi.core import renderer as R
+from spectral_gi.core.integrators import render as R
 from spectral_gi.core.film import CHROMATICITIES, Film, develop
 from spectral_gi.core.io.exr import read_channels, write_render
-from spectral_gi.core.scene import (Camera, RenderSettings, Scene, SceneError, SpectrumTable, World, load, save,
-                                    validate)
-from spectral_gi.core.scenes import cornell_box
+from spectral_gi.core.scene import (
+    Camera, RenderSettings, Scene, SceneError, SpectrumTable, World, load, save, validate)
+from spectral_gi.core.scene.builtin import cornell_box
 from spectral_gi.core.spectra import moments
 
 colour = pytest.importorskip("colour")
@@ -169,7 +169,7 @@ def test_10_degree_film_checkpoint_round_trip_and_resume(tmp_path):
 
 
 def test_cli_writes_acescg_with_its_chromaticities(tmp_path):
-    r = subprocess.run([sys.executable, "-m", "spectral_gi.core.cli", "render", "--width", "6", "--height", "5",
+    r = subprocess.run([sys.executable, "-m", "spectral_gi.cli", "render", "--width", "6", "--height", "5",
                         "--spp", "1", "--colour-space", "acescg", "--observer", "1964", "--out", "a.exr"],
                        cwd=tmp_path, capture_output=True, text=True, timeout=600)
     assert r.returncode == 0, r.stderr
@@ -182,7 +182,7 @@ def test_cli_writes_acescg_with_its_chromaticities(tmp_path):
 
 
 def _reconstruction_rms(patch, orders):
-    from spectral_gi.core.material_presets import reflectance_preset, tabulate_reflectance, wavelength_grid
+    from spectral_gi.core.bsdfs.presets import reflectance_preset, tabulate_reflectance, wavelength_grid
     from spectral_gi.core.spectra import library
 
     g = wavelength_grid()
@@ -203,7 +203,7 @@ def test_reconstruction_error_falls_with_the_fourier_order(patch):
 
 
 def test_mean_reconstruction_error_of_the_colorchecker_falls_with_the_order():
-    from spectral_gi.core.material_presets import reflectance_preset
+    from spectral_gi.core.bsdfs.presets import reflectance_preset
     from spectral_gi.core.spectra import library
 
     err = np.array([_reconstruction_rms(p, ORDERS) for p in library.colorchecker_names()])

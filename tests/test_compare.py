@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from spectral_gi.core import compare as CM
+from spectral_gi.core.colour import compare as CM
 
 
 def test_identical_images():

@@ -14,8 +14,8 @@ import pytest
 
 from spectral_gi.core import constants as C
 from spectral_gi.core.film import Film
-from spectral_gi.core.renderer import render
-from spectral_gi.core.scene import (Camera, Light, Material, Mesh, RenderSettings, Scene, SpectrumTable, World)
+from spectral_gi.core.integrators.render import render
+from spectral_gi.core.scene import Camera, Light, Material, Mesh, RenderSettings, Scene, SpectrumTable, World
 
 from helpers import flat_emission, flat_reflectance, look_at
 

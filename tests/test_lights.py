@@ -7,10 +7,10 @@ import pytest
 from helpers import flat_emission, flat_reflectance, look_at
 
 from spectral_gi.core import constants as C
-from spectral_gi.core import renderer as R
+from spectral_gi.core.integrators import render as R
 from spectral_gi.core.film import develop
-from spectral_gi.core.scene import (Camera, Light, Material, Mesh, RenderSettings, Scene, SceneError, SpectrumTable,
-                                    load, save, validate)
+from spectral_gi.core.scene import (
+    Camera, Light, Material, Mesh, RenderSettings, Scene, SceneError, SpectrumTable, load, save, validate)
 
 RHO = 0.8
 CAM_H = 3.0

@@ -4,8 +4,8 @@ import math
 import numpy as np
 import pytest
 
-from spectral_gi.core import lightunits as LU
-from spectral_gi.core.units import emitter_luminance
+from spectral_gi.core.photometry import lightunits as LU
+from spectral_gi.core.photometry.units import emitter_luminance
 
 
 def test_point_light_follows_cycles_intensity_at_683_lm_per_watt():
@@ -83,7 +83,7 @@ def test_spectrum_sources():
 
 
 def test_scene_white_is_the_brightest_emitter():
-    from spectral_gi.core.scenes import cornell_box
+    from spectral_gi.core.scene.builtin import cornell_box
 
     scene = cornell_box(8, 8)
     x, y = LU.scene_white_xy(scene)

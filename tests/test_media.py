@@ -10,12 +10,13 @@ from chi2 import chi2_interval, chi2_sphere, seed_for, ztest, ztest_samples
 from helpers import box_mesh, flat_emission, flat_reflectance, furnace_scene, look_at
 
 from spectral_gi.core import constants as C
-from spectral_gi.core import renderer as R
+from spectral_gi.core.integrators import render as R
 from spectral_gi.core import scene as S
 from spectral_gi.core.film import Film, develop
-from spectral_gi.core.kernels import media as M
-from spectral_gi.core.scene import Camera, Material, Medium, Mesh, RenderSettings, Scene, SceneError, SpectrumTable
-from spectral_gi.core.scenes import cornell_box
+from spectral_gi.core.media import kernel as M
+from spectral_gi.core.scene import (
+    Camera, Material, Medium, Mesh, RenderSettings, Scene, SceneError, SpectrumTable)
+from spectral_gi.core.scene.builtin import cornell_box
 from spectral_gi.core.spectra import uplift
 
 NW = C.N_WAVELENGTHS
@@ -225,7 +226,7 @@ def _shadow(prep, o, w, dist, medium=-1):
     b = prep.bvh
     lam = np.array([400.0, 500.0, 600.0, 700.0])
     mw = np.zeros((M.MW_ROWS, NW))
-    from spectral_gi.core.kernels.bvh import STACK_SIZE
+    from spectral_gi.core.geometry.bvh import STACK_SIZE
     stack = np.empty(STACK_SIZE, np.int32)
     ok = M.shadow(o[0], o[1], o[2], w[0], w[1], w[2], dist, medium, -1, lam, mw, b.nodes, b.tris,
                   b.v0, b.e1, b.e2, prep.tri_mat, prep.mat_model, prep.mat_medium, prep.med_tab, 1e-6,

@@ -4,8 +4,8 @@ measured spectra."""
 import numpy as np
 import pytest
 
-from spectral_gi.core import renderer
-from spectral_gi.core.scenes import colorchecker
+from spectral_gi.core.integrators import render as renderer
+from spectral_gi.core.scene.builtin import colorchecker
 from spectral_gi.core.spectra import library
 
 colour = pytest.importorskip("colour")

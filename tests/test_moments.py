@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from spectral_gi.core import constants as C
-from spectral_gi.core import presets
+from spectral_gi.core.io import presets
 from spectral_gi.core.spectra import moments as M
 from spectral_gi.core.spectra import uplift
 

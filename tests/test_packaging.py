@@ -22,7 +22,7 @@ def test_manifest_matches_pyproject():
     assert man["id"] == "spectral_gi"
     assert man["version"] == cfg["project"]["version"]
     assert cfg["project"]["name"] == "spectral-gi"
-    assert cfg["project"]["scripts"]["spectral-gi"] == "spectral_gi.core.cli:main"
+    assert cfg["project"]["scripts"]["spectral-gi"] == "spectral_gi.cli:main"
 
 
 def test_root_init_is_the_two_line_shim():

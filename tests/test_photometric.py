@@ -9,9 +9,9 @@ import pytest
 from test_lights import RHO, _check, ground_points, plane_scene, render_lum
 
 from spectral_gi.core import constants as C
-from spectral_gi.core import renderer as R
-from spectral_gi.core.io import photometric as P
-from spectral_gi.core.presets import PRESETS_DIR
+from spectral_gi.core.integrators import render as R
+from spectral_gi.core.photometry import profiles as P
+from spectral_gi.core.io.presets import PRESETS_DIR
 from spectral_gi.core.scene import Light, Profile, SceneError, load, save, validate
 
 IES = PRESETS_DIR / "ies"
@@ -266,7 +266,7 @@ def _angles(q, direction, axis_u):
 
 
 def test_kernel_profile_factor_matches_numpy_oracle():
-    from spectral_gi.core.kernels import lights as LG
+    from spectral_gi.core.lights import kernel as LG
 
     sc = plane_scene([_profiled(direction=(0.3, -0.2, -1.0), axis_u=(0.2, 1.0, 0.1))])
     pr = P.read_profile(IES / "wallwasher.ies")
@@ -316,7 +316,7 @@ def test_profiled_spot_flux_includes_its_cone():
     np.testing.assert_allclose(prep.emit_prob, [0.5, 0.5], rtol=1e-9)
     # the spot emits 500 lm inside the cone: its peak is 500 / ∫ cos θ · mask dω
     mu = np.linspace(math.cos(size / 2), 1, 200001)
-    from spectral_gi.core.lightunits import spot_falloff
+    from spectral_gi.core.photometry.lightunits import spot_falloff
     integral = 2 * math.pi * np.trapz(mu * spot_falloff(mu, size, blend), mu)
     s = prep.light_scale[0] / prep.light_scale[1] * 500.0 / (4 * math.pi)
     assert s == pytest.approx(500.0 / integral, rel=2e-3)

@@ -5,7 +5,9 @@ import warnings
 import numpy as np
 import pytest
 
-from spectral_gi.core import constants, photometry as P, presets
+from spectral_gi.core import constants
+from spectral_gi.core.photometry import quantities as P
+from spectral_gi.core.io import presets
 from spectral_gi.core import colour as C
 
 with warnings.catch_warnings():

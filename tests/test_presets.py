@@ -7,7 +7,7 @@ import warnings
 import numpy as np
 import pytest
 
-from spectral_gi.core import presets, tables
+from spectral_gi.core.io import presets, tables
 
 with warnings.catch_warnings():
     warnings.simplefilter("ignore")  # colour warns about the missing matplotlib

@@ -6,11 +6,11 @@ import pytest
 from chi2 import alpha, chi2_interval, seed_for, ztest  # noqa: F401
 
 from spectral_gi.core import sampling
-from spectral_gi.core.sampling import oracle as O
+from oracles import sampling as O
 from spectral_gi.core.sampling import qmc
 from spectral_gi.core.sampling.batch import qmc_points
-from spectral_gi.core.sampling.tags import (RANDOMIZE_CP, RANDOMIZE_NONE, RANDOMIZE_OWEN, SAMPLER_HALTON,
-                                            SAMPLER_HAMMERSLEY, SAMPLER_INDEPENDENT)
+from spectral_gi.core.sampling.tags import (
+    RANDOMIZE_CP, RANDOMIZE_NONE, RANDOMIZE_OWEN, SAMPLER_HALTON, SAMPLER_HAMMERSLEY, SAMPLER_INDEPENDENT)
 
 RANDOMIZED = [(SAMPLER_HALTON, RANDOMIZE_OWEN), (SAMPLER_HALTON, RANDOMIZE_CP),
               (SAMPLER_HAMMERSLEY, RANDOMIZE_OWEN), (SAMPLER_HAMMERSLEY, RANDOMIZE_CP)]

@@ -4,9 +4,9 @@ import pytest
 from helpers import disk_over_plane_scene, furnace_scene
 
 from spectral_gi.core import constants as C
-from spectral_gi.core import renderer as R
+from spectral_gi.core.integrators import render as R
 from spectral_gi.core.film import develop
-from spectral_gi.core.scenes import cornell_box
+from spectral_gi.core.scene.builtin import cornell_box
 
 
 def _z(est, expected, var):
@@ -166,7 +166,7 @@ def test_bounce_limit_counts_like_cycles(bounces):
 def test_spectral_film_bins_hold_the_spectral_radiance():
     """With flat emission and reflectance the radiance is flat: every bin holds L_e/(1-ρ)
     in W/(m² sr nm), with L_e = luminance / (K_m ∫ ȳ dλ)."""
-    from spectral_gi.core import presets
+    from spectral_gi.core.io import presets
     from spectral_gi.core.io.exr import read_channels, spectral_channel_name, write_render
     rho, lum = 0.5, 100.0
     sc = furnace_scene(rho, lum, spp=1024)

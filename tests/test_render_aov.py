@@ -7,10 +7,10 @@ import pytest
 from helpers import flat_emission, flat_reflectance, furnace_scene
 
 from spectral_gi.core import constants as C
-from spectral_gi.core import renderer as R
+from spectral_gi.core.integrators import render as R
 from spectral_gi.core.film import Film
-from spectral_gi.core.scene import (Camera, Light, Material, Mesh, RenderSettings, Scene, SceneError, SpectrumTable,
-                                    validate)
+from spectral_gi.core.scene import (
+    Camera, Light, Material, Mesh, RenderSettings, Scene, SceneError, SpectrumTable, validate)
 from spectral_gi.core.spectra import uplift
 
 RHO = 0.8
@@ -141,7 +141,7 @@ def test_noise_target_stops_at_the_requested_error():
 
 @pytest.mark.parametrize("sampler", [C.SAMPLER_INDEPENDENT, C.SAMPLER_HALTON])
 def test_resume_from_a_saved_film_is_bit_identical(sampler, tmp_path):
-    from spectral_gi.core.scenes import cornell_box
+    from spectral_gi.core.scene.builtin import cornell_box
     sc = cornell_box(width=12, height=10, spp=8, max_depth=3, seed=3)
     sc.settings.sampler = sampler
     half, _ = R.render(sc, spectral_bins=3)

@@ -4,7 +4,7 @@ import pytest
 from helpers import disk_over_plane_scene, furnace_scene
 
 from spectral_gi.core import constants as C
-from spectral_gi.core import renderer as R
+from spectral_gi.core.integrators import render as R
 from spectral_gi.core.film import develop
 from spectral_gi.core.scene import SceneError, validate
 
@@ -56,7 +56,7 @@ def test_qmc_error_is_lower_on_a_smooth_direct_lighting_scene():
 
 @pytest.mark.parametrize("sampler", (C.SAMPLER_HALTON, C.SAMPLER_HAMMERSLEY))
 def test_qmc_render_is_the_same_for_one_and_two_threads(sampler):
-    from spectral_gi.core.scenes import cornell_box
+    from spectral_gi.core.scene.builtin import cornell_box
     sc = cornell_box(width=12, height=10, spp=4, max_depth=3, seed=5)
     sc.settings.sampler = sampler
     f1, _ = R.render(sc, threads=1)
@@ -76,7 +76,7 @@ def test_sampler_is_validated():
 
 
 def test_cli_sampler_option(tmp_path):
-    from spectral_gi.core.cli import _parser
+    from spectral_gi.cli import _parser
     args = _parser().parse_args(["render", "--sampler", "hammersley"])
     assert args.sampler == "hammersley"
     with pytest.raises(SystemExit):

@@ -7,10 +7,10 @@ from chi2 import alpha, chi2_plane  # noqa: F401  (alpha: the Šidák-corrected 
 from helpers import flat_reflectance, look_at
 
 from spectral_gi.core import constants as C
-from spectral_gi.core import renderer as R
+from spectral_gi.core.integrators import render as R
 from spectral_gi.core.film import develop
-from spectral_gi.core.scene import (Camera, Material, Mesh, RenderSettings, Scene, SceneError, SpectrumTable, World,
-                                    load, save, validate)
+from spectral_gi.core.scene import (
+    Camera, Material, Mesh, RenderSettings, Scene, SceneError, SpectrumTable, World, load, save, validate)
 from spectral_gi.core.spectra import uplift
 
 RHO = 0.5
@@ -103,7 +103,7 @@ def test_hdri_furnace_converges_to_the_maps_cosine_weighted_average(normal, rota
 @pytest.mark.statistical
 @pytest.mark.parametrize("rotation", [0.0, 2.0])
 def test_world_image_sampling_matches_its_pdf(rotation, alpha):
-    from spectral_gi.core.kernels.lights import env_lookup, env_sample
+    from spectral_gi.core.lights.kernel import env_lookup, env_sample
 
     img = hdr_map(8, 16)
     sc = plane_scene(world=World(image=img, rotation=rotation))

@@ -5,7 +5,8 @@ import pytest
 
 from spectral_gi import core
 from spectral_gi.core import constants as C
-from spectral_gi.core.kernels.rng import mix64, nested_index, owen32, pascal32, rev32, shift_32, sobol_02, sobol_bits, sobol_pair
+from spectral_gi.core.sampling.rng import (
+    mix64, nested_index, owen32, pascal32, rev32, shift_32, sobol_02, sobol_bits, sobol_pair)
 
 # Sobol's first two dimensions, points 0..7 in index order (not Gray-code order): dimension
 # 0 is the van der Corput sequence, dimension 1 XORs the direction numbers 1/2, 3/4, 5/8
@@ -167,8 +168,8 @@ def test_pair_draws_equal_two_single_draws():
     """The path kernel's paired draw (light sample, BSDF sample) gives exactly the two values
     of two single draws, for every sampler, aligned or not, across the stratified sampler's
     last Sobol dimension and into its hashed ones."""
-    from spectral_gi.core.kernels import path as P
-    from spectral_gi.core.kernels.rng import path_key, sobol_pair, sobol_pair_both
+    from spectral_gi.core.integrators import path as P
+    from spectral_gi.core.sampling.rng import path_key, sobol_pair, sobol_pair_both
 
     for pair in range(3, 12):
         for i in range(64):

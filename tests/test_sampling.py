@@ -8,10 +8,11 @@ from chi2 import alpha  # noqa: F401  (the Šidák-corrected significance fixtur
 from chi2 import chi2_interval, chi2_plane, chi2_sphere, integrate_cells, seed_for, ztest, ztest_samples
 from scipy import integrate
 
-from spectral_gi.core.sampling import batch, frame, lobes, mis, oracle as O, sphtri, stats, warps
+from spectral_gi.core.sampling import batch, frame, lobes, mis, sphtri, stats, warps
+from oracles import sampling as O
 from spectral_gi.core.sampling import tags as T
-from spectral_gi.core.sampling.distrib import (build_distribution_1d, build_distribution_2d, distribution_1d_parts,
-                                               distribution_2d_parts)
+from spectral_gi.core.sampling.distrib import (
+    build_distribution_1d, build_distribution_2d, distribution_1d_parts, distribution_2d_parts)
 
 N = 200_000
 HALF_PI = 0.5 * math.pi
@@ -460,7 +461,7 @@ def test_guided_distribution_matches_the_binary_search():
     pdf and cell for every u, at and next to every cell boundary, zero cells included
     (they are never sampled), for the camera's filter tables too."""
     from spectral_gi.core import constants as C
-    from spectral_gi.core.kernels.camera import filter_table
+    from spectral_gi.core.camera.kernel import filter_table
     from spectral_gi.core.sampling.distrib import build_guided_1d, sample_1d_block, sample_1d_guided
 
     rng = np.random.default_rng(11)
@@ -727,7 +728,7 @@ def test_visible_wavelength_sampling_inverts_its_cdf_and_reports_its_density():
     the density it returns from tanh (sech² = 1 − tanh²) equals the cosh form, and that
     density integrates to 1 over the visible range."""
     from spectral_gi.core import constants as C
-    from spectral_gi.core.kernels import path as P
+    from spectral_gi.core.integrators import path as P
 
     u = np.linspace(0.0, 1.0, 2001)[:-1] + 1.0 / 4002
     lam, pdf = np.array([P.sample_visible(v) for v in u]).T

@@ -7,7 +7,7 @@ from helpers import furnace_scene
 
 from spectral_gi.core import constants as C
 from spectral_gi.core import scene as S
-from spectral_gi.core.scenes import cornell_box
+from spectral_gi.core.scene.builtin import cornell_box
 
 
 def test_cornell_box_is_valid():

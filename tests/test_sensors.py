@@ -12,10 +12,10 @@ import numpy as np
 import pytest
 
 from spectral_gi.core import constants as C
-from spectral_gi.core.renderer import render
-from spectral_gi.core.scene import (Camera, Light, Material, Mesh, RenderSettings, Scene, SceneError, SpectrumTable,
-                                    World)
-from spectral_gi.core.sensors import illuminance_stats, render_illuminance
+from spectral_gi.core.integrators.render import render
+from spectral_gi.core.scene import (
+    Camera, Light, Material, Mesh, RenderSettings, Scene, SceneError, SpectrumTable, World)
+from spectral_gi.core.integrators.sensors import illuminance_stats, render_illuminance
 
 from helpers import box_mesh, flat_emission, flat_reflectance, look_at
 

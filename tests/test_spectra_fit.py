@@ -3,9 +3,9 @@ import numpy as np
 import pytest
 
 from spectral_gi.core import constants as C
-from spectral_gi.core import presets
+from spectral_gi.core.io import presets
 from spectral_gi.core.colour import MATRIX_REC709_TO_XYZ, MATRIX_XYZ_TO_REC709
-from spectral_gi.core.kernels import spectrum as K
+from spectral_gi.core.spectra import kernel as K
 from spectral_gi.core.spectra import fit
 from spectral_gi.core.spectra import moments as M
 from spectral_gi.core.spectra import uplift

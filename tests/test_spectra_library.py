@@ -6,7 +6,7 @@ import warnings
 import numpy as np
 import pytest
 
-from spectral_gi.core import presets
+from spectral_gi.core.io import presets
 from spectral_gi.core.spectra import library as L
 
 with warnings.catch_warnings():

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from spectral_gi.core import constants as C
-from spectral_gi.core.io.spectrum_file import (SpectrumFileError, load_spectrum_file, parse_spectrum_text,
-                                               spectrum_file_coeffs)
+from spectral_gi.core.io.spectrum_file import (
+    SpectrumFileError, load_spectrum_file, parse_spectrum_text, spectrum_file_coeffs)
 from spectral_gi.core.spectra import moments
 
 colour = pytest.importorskip("colour")

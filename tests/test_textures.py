@@ -7,11 +7,12 @@ import pytest
 from helpers import flat_emission, flat_reflectance, look_at
 
 from spectral_gi.core import constants as C
-from spectral_gi.core import renderer as R
+from spectral_gi.core.integrators import render as R
 from spectral_gi.core.bsdfs.params import ggx_conductor_params, lambert_params, plastic_params
-from spectral_gi.core.kernels import textures as KT
-from spectral_gi.core.scene import (Camera, Light, Material, Mesh, RenderSettings, Scene, SceneError, SpectrumTable,
-                                    World, load, save, validate)
+from spectral_gi.core.textures import kernel as KT
+from spectral_gi.core.scene import (
+    Camera, Light, Material, Mesh, RenderSettings, Scene, SceneError, SpectrumTable, World, load, save,
+    validate)
 from spectral_gi.core.spectra import moments
 from spectral_gi.core.textures import Texture, pack, reflectance_basis
 

@@ -6,10 +6,11 @@ import pytest
 from helpers import disk_over_plane_scene
 
 from spectral_gi.core import constants as C
-from spectral_gi.core import photometry, renderer
+from spectral_gi.core.photometry import quantities as photometry
+from spectral_gi.core.integrators import render as renderer
 from spectral_gi.core.film import develop
 from spectral_gi.core.spectra import library
-from spectral_gi.core.units import area_light_luminance, emission_luminance, emitter_luminance
+from spectral_gi.core.photometry.units import area_light_luminance, emission_luminance, emitter_luminance
 
 
 def test_units_are_consistent():

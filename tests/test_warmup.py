@@ -8,8 +8,8 @@ import time
 import pytest
 
 from spectral_gi import core
-from spectral_gi.core import warmup
-from spectral_gi.core.compile_plan import PLAN
+from spectral_gi.core.integrators import warmup
+from spectral_gi.core.integrators.compile_plan import PLAN
 
 
 @pytest.fixture(scope="module")
@@ -33,7 +33,7 @@ def test_second_process_imports_the_package_under_blenders_name(rendered):
     """Blender imports the extension as bl_ext.<repository>.spectral_gi: the second process
     imports it under the same dotted name without running the add-on's __init__ (which
     imports bpy), and compiles (here: loads from the cache) its whole group."""
-    root = os.path.dirname(os.path.dirname(os.path.abspath(warmup.__file__)))
+    root = warmup._ROOT  # the package root (the folder holding core/)
     env = dict(os.environ, PYTHONPATH="")
     out = subprocess.run([sys.executable, "-c", warmup._BOOT, "bl_ext.user_default.spectral_gi", root],
                          capture_output=True, text=True, env=env, timeout=600)

@@ -20,8 +20,8 @@ import math
 import numpy as np
 
 from .context import ExportError
-from .convert import (AREA_SHAPES, area_light_geometry, area_light_normalising_area, light_power_watts,
-                      light_rgb)
+from .convert import (
+    AREA_SHAPES, area_light_geometry, area_light_normalising_area, light_power_watts, light_rgb)
 
 UNIT_NAMES = {"BLENDER": "blender_W", "LUMEN": "lm", "CANDELA": "cd", "LUX": "lux", "NIT": "cd/m2"}
 SOURCE_NAMES = {"RGB": "rgb", "BLACKBODY": "blackbody", "ILLUMINANT": "illuminant", "LED": "led", "FILE": "file"}

@@ -18,7 +18,7 @@ import functools
 import numpy as np
 
 from .. import constants as C
-from .. import presets
+from ..io import presets
 from ..colour import MATRIX_REC709_TO_XYZ
 from . import moments
 

@@ -10,7 +10,7 @@ import functools
 import numpy as np
 
 from .. import constants as C
-from .. import presets
+from ..io import presets
 from . import moments
 
 

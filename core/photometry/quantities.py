@@ -48,9 +48,9 @@ import math
 
 import numpy as np
 
-from .colour._common import as_float
-from .colour.tristimulus import _check_xy, cmfs, interpolate_sprague
-from .constants import K_M
+from ..colour._common import as_float
+from ..colour.tristimulus import _check_xy, cmfs, interpolate_sprague
+from ..constants import K_M
 
 # --------------------------------------------------------------------------- constants
 

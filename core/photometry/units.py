@@ -12,8 +12,8 @@ Cycles' conventions (measured in Cycles 5.0, see shared/design/facts.md):
 """
 import math
 
-from . import constants as C
-from .colour import luminance_rec709
+from .. import constants as C
+from ..colour import luminance_rec709
 
 BLENDER_LM_PER_W = C.K_M
 
@@ -46,7 +46,7 @@ def emitter_luminance(unit, value, area_m2, two_sided=False, shape=None):
       Φ = W · K_m ∫V S / ∫S, then as for lumens;
     * ``"blender_W"``: Blender's watts at 683 lm/W for a white light (Cycles' area lights).
     """
-    from .photometry import luminous_efficacy
+    from .quantities import luminous_efficacy
 
     v = float(value)
     a = float(area_m2)

@@ -19,8 +19,8 @@ import math
 
 import numpy as np
 
-from . import constants as C
-from .colour import XYZ_to_Lab, delta_E_CIE2000, luminance_rec709, sRGB_linear_to_XYZ
+from .. import constants as C
+from . import XYZ_to_Lab, delta_E_CIE2000, luminance_rec709, sRGB_linear_to_XYZ
 
 D65_XY = (0.3127, 0.3290)
 DELTA_E_VMAX = 10.0  # ΔE00 at the top of the false-colour scale

@@ -3,7 +3,7 @@
 Everything here uses the standard library and numpy only: Blender's bundled
 Python has no colour-science, so the shipped CSV files are the single source
 of spectral data at render time.  The files themselves are produced by
-:func:`spectral_gi.core.tables.generate_tables` (colour-science tables) or
+:func:`spectral_gi.core.io.tables.generate_tables` (colour-science tables) or
 were transcribed by hand (the Cornell box, metal optical constants, glass
 dispersion formulas); ``presets/README.md`` documents every file.
 
@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-PRESETS_DIR: Path = Path(__file__).resolve().parent.parent / "presets"
+PRESETS_DIR: Path = Path(__file__).resolve().parents[2] / "presets"
 
 WAVELENGTH_COLUMN = "wavelength_nm"
 

@@ -8,9 +8,9 @@ of a name; the data come from :mod:`.spectra.library` (files under ``presets/``)
 """
 import numpy as np
 
-from . import constants as C
-from .spectra import library, moments
-from .spectra.uplift import reflectance_from_samples
+from .. import constants as C
+from ..spectra import library, moments
+from ..spectra.uplift import reflectance_from_samples
 
 
 def wavelength_grid():

@@ -23,18 +23,19 @@ from .. import constants as C
 from ..jit import function, inline, kernel
 from ..bsdfs.dispatch import bsdf_eval, bsdf_flags, bsdf_sample
 from ..bsdfs.common import clamp01
-from ..bsdfs.params import ALPHA_MIN, BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE, BSDF_GLOSSY, BSDF_REFLECTION, P_TWO_SIDED
+from ..bsdfs.params import (
+    ALPHA_MIN, BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE, BSDF_GLOSSY, BSDF_REFLECTION, P_TWO_SIDED)
 from ..bsdfs.phong import lambert_sample_dir
-from . import media
-from . import textures as tex
-from .bvh import STACK_SIZE, trace_closest, triangle_normal, uidx
-from .camera import CAM_LENS_R, camera_ray
-from .lights import env_lookup, env_sample, hit_light, sample_light, sun_hit
+from ..media import kernel as media
+from ..textures import kernel as tex
+from ..geometry.bvh import STACK_SIZE, trace_closest, triangle_normal, uidx
+from ..camera.kernel import CAM_LENS_R, camera_ray
+from ..lights.kernel import env_lookup, env_sample, hit_light, sample_light, sun_hit
 from ..sampling.qmc import pixel_seed, qmc_sample
 from ..sampling.sphtri import SMALL_SOLID_ANGLE, sample_spherical_triangle, spherical_triangle_solid_angle
 from ..sampling.tags import RANDOMIZE_OWEN, SAMPLER_INDEPENDENT
-from .spectrum import lookup
-from .rng import path_key, shift_32, sobol_02, sobol_pair, sobol_pair_both, uniform
+from ..spectra.kernel import lookup
+from ..sampling.rng import path_key, shift_32, sobol_02, sobol_pair, sobol_pair_both, uniform
 
 NW = C.N_WAVELENGTHS
 LMIN = C.LAMBDA_MIN

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import constants as C
+from .. import constants as C
 
 INTERPOLATIONS = ("closest", "linear")
 EXTENSIONS = ("repeat", "extend", "clip")
@@ -57,7 +57,7 @@ def check(scene, fail):
     """Validate ``scene.textures``, the materials' texture fields and the UVs they need.
 
     ``fail(field, problem)`` raises (core.scene's SceneError)."""
-    from .scene import _check_array, _check_number
+    from ..scene import _check_array, _check_number
 
     textures = scene.textures
     if not isinstance(textures, list):
@@ -135,7 +135,7 @@ def pack(textures):
 
     Texel (i, j) (column, row from the top) channel c of texture t is
     data[info[t, 0] + (j·W + i)·C + c]. An empty list gives one dummy texel and row."""
-    from .kernels.textures import EXT_TAGS, INTERP_TAGS
+    from .kernel import EXT_TAGS, INTERP_TAGS
 
     if not textures:
         return np.zeros(1, np.float32), np.zeros((1, INFO_SIZE), np.int64)
@@ -217,8 +217,8 @@ def triangle_frames(scene, prims):
 
 def reflectance_basis():
     """(3, N_LAMBDA) the Mallett–Yuksel reflectance basis rows B_r, B_g, B_b on the renderer's grid."""
-    from . import presets
-    from .spectra import moments
+    from ..io import presets
+    from ..spectra import moments
 
     wl, basis = presets.mallett2019_basis()
     grid = moments.grid()

@@ -36,7 +36,7 @@ import sys
 HELPER_GROUP = frozenset({"bsdf_eval", "bsdf_sample", "_emitter_sample", "_textures", "_splat", "rnd_f", "rnd2"})
 
 _PKG = __name__.rsplit(".core.", 1)[0]
-_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+_ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 # run by the second process: import this package under its own name (Blender loads it as
 # bl_ext.<repository>.spectral_gi) without running its __init__ (which imports bpy code),
@@ -51,7 +51,7 @@ for i in range(1, len(parts) + 1):
         m = types.ModuleType(name)
         m.__path__ = [root] if i == len(parts) else []
         sys.modules[name] = m
-print(importlib.import_module(pkg + ".core.warmup").compile_group(True))
+print(importlib.import_module(pkg + ".core.integrators.warmup").compile_group(True))
 """
 
 
@@ -82,7 +82,7 @@ def compile_group(helper):
     it needs when it needs it). Returns the number of helpers handled."""
     import numba.core.config  # noqa: F401  (jit sets the cache folder on import)
 
-    from . import jit  # noqa: F401
+    from .. import jit  # noqa: F401
 
     try:
         entries = plan()
@@ -100,9 +100,15 @@ def compile_group(helper):
     return n
 
 
+def kernels_compiled():
+    """True if the path kernel is already compiled in this process."""
+    from .path import render_rows
+    return bool(render_rows.signatures)
+
+
 def kernel_cached():
     """True if numba's cache folder already holds the path kernel (a warm start)."""
-    from .kernels.path import render_rows
+    from .path import render_rows
 
     try:
         index = render_rows._cache._cache_file._index_path
@@ -132,8 +138,6 @@ def start():
     if os.environ.get("SPECTRAL_GI_PARALLEL_COMPILE", "1") == "0" or (os.cpu_count() or 1) < 2:
         return None
     try:
-        from .renderer import kernels_compiled
-
         cmd = command()
         if cmd is None or kernels_compiled() or kernel_cached():
             return None
@@ -177,7 +181,7 @@ def record():
     from numba.core.registry import cpu_target
     from numba.core.typed_passes import NopythonTypeInference
 
-    from .kernels.path import render_rows
+    from .path import render_rows
 
     if not render_rows.signatures:
         raise RuntimeError("record(): render something first (the kernel's argument types are taken from it)")
@@ -215,7 +219,7 @@ def record():
 
 def write_plan(entries, path=None):
     """Write ``compile_plan.py`` (atomically)."""
-    from .io.atomic import write_text
+    from ..io.atomic import write_text
 
     lines = ['"""The path kernel\'s separately compiled helpers and their argument types (numba type',
              'reprs), recorded by `python benchmarks/compile_bench.py --record`; see core/warmup.py."""',

@@ -387,7 +387,7 @@ def flux(profile, mask=None, n=20000):
 
 def preset_profiles():
     """{name: path} of the sample profiles shipped in presets/ies (sorted by name)."""
-    from ..presets import PRESETS_DIR
+    from ..io.presets import PRESETS_DIR
 
     folder = PRESETS_DIR / "ies"
     if not folder.is_dir():

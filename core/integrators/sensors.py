@@ -45,8 +45,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import constants as C
-from .scene import SceneError
+from .. import constants as C
+from ..scene import SceneError
 
 
 @dataclass
@@ -100,7 +100,7 @@ def illuminance_image(film) -> IlluminanceImage:
     The film's transparent-sample count (AOV channel 8) is the number of samples that hit
     no sensor and carry no radiance; E is π K_m times the mean Y of the other samples.
     """
-    from .film import photometric_y_sums
+    from ..film import photometric_y_sums
 
     n = film.sums[..., 3]
     n_sensor = n - film.aov[..., 8]
@@ -170,7 +170,7 @@ def render_illuminance(scene, *, threads=None, progress=None, should_cancel=None
     at least ``min_coverage`` (default 1: fully covered). Raises SceneError if no mesh is a
     sensor. The other arguments are those of :func:`core.renderer.render`.
     """
-    from .renderer import render
+    from .render import render
 
     if not has_sensors(scene):
         raise SceneError("meshes: no mesh is an illuminance sensor (set Mesh.sensor = True)")

@@ -23,9 +23,9 @@ from pathlib import Path
 
 import numpy as np
 
-from . import constants as C
-from .io.atomic import atomic_path, write_text
-from .textures import Texture
+from .. import constants as C
+from ..io.atomic import atomic_path, write_text
+from ..textures import Texture
 
 
 class SceneError(ValueError):
@@ -351,7 +351,7 @@ def _check_vec3(name, v):
 
 def validate(scene: Scene) -> Scene:
     """Check every field of ``scene``; raise SceneError naming the first bad one."""
-    from .spectra import moments
+    from ..spectra import moments
 
     if not isinstance(scene, Scene):
         _fail("scene", f"expected a Scene, got {type(scene).__name__}")
@@ -475,7 +475,7 @@ def validate(scene: Scene) -> Scene:
         for key in ("sensor", "holdout"):
             if not isinstance(getattr(mesh, key), (bool, np.bool_)):
                 _fail(f"{nm}.{key}", f"expected true or false, got {getattr(mesh, key)!r}")
-    from . import textures as _textures
+    from .. import textures as _textures
 
     _textures.check(scene, _fail)
 
@@ -589,7 +589,7 @@ def validate(scene: Scene) -> Scene:
     _check_number("settings.noise_target", s.noise_target, lo=0.0, hi=1e6)
     if not isinstance(s.next_event, (bool, np.bool_)):
         _fail("settings.next_event", f"expected true or false, got {s.next_event!r}")
-    from .film import COLOUR_SPACES, OBSERVERS
+    from ..film import COLOUR_SPACES, OBSERVERS
 
     if s.colour_space not in COLOUR_SPACES:
         _fail("settings.colour_space", f"unknown colour space {s.colour_space!r} (one of {', '.join(COLOUR_SPACES)})")

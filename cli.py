@@ -127,8 +127,8 @@ def _parser():
 
 def _white_balance(text, scene):
     """None, or the xy chromaticity the RGB output is balanced from."""
-    from .scene import SceneError
-    from .spectra.fit import emission_XYZ
+    from .core.scene import SceneError
+    from .core.spectra.fit import emission_XYZ
 
     t = (text or "none").strip().lower()
     if t == "none":
@@ -156,14 +156,14 @@ def _fail(msg, code=EXIT_USAGE):
 
 
 def _render(args):
-    from . import constants as C
-    from .io.exr import write_render
-    from .io.png import write_png
-    from .renderer import render
-    from .scene import SceneError, load, validate
-    from .scenes import cornell_box
+    from .core import constants as C
+    from .core.io.exr import write_render
+    from .core.io.png import write_png
+    from .core.integrators.render import render
+    from .core.scene import SceneError, load, validate
+    from .core.scene.builtin import cornell_box
 
-    from .scenes import BUILTIN_SCENES
+    from .core.scene.builtin import BUILTIN_SCENES
 
     if args.scene and args.builtin:
         raise SceneError("give either a scene file or --builtin, not both")
@@ -254,17 +254,10 @@ def _render(args):
 
 
 def _render_blend(args):
-    """``render-blend``: handled by the add-on's headless driver (it needs bpy, which core never imports).
+    """``render-blend``: handled by the add-on's headless driver (it needs bpy, which core never
+    imports), imported only when the command runs."""
+    from .addon import headless
 
-    The driver is this package's ``addon.headless``, imported only when the command runs.
-    """
-    import importlib
-
-    package = (__package__ or "").rpartition(".")[0]
-    if not package:
-        return _fail("render-blend needs the installed spectral_gi package (run `spectral-gi render-blend`)",
-                     EXIT_ERROR)
-    headless = importlib.import_module(package + ".addon.headless")
     try:
         return headless.main(args)
     except headless.HeadlessError as e:
@@ -275,7 +268,7 @@ def _render_blend(args):
 
 def main(argv=None):
     args = _parser().parse_args(argv)
-    from .scene import SceneError
+    from .core.scene import SceneError
 
     try:
         if args.command == "render":
@@ -283,8 +276,8 @@ def main(argv=None):
         if args.command == "render-blend":
             return _render_blend(args)
         if args.command == "save-default-scene":
-            from .scene import save
-            from .scenes import cornell_box
+            from .core.scene import save
+            from .core.scene.builtin import cornell_box
             path = save(cornell_box(), args.out)
             print(f"wrote {path} and {path.with_suffix('.npz')}")
             return EXIT_OK

@@ -38,8 +38,8 @@ import numpy as np
 
 from .. import constants as C
 from ..jit import function, inline
-from .bvh import trace_closest, trace_occluded, triangle_normal
-from .spectrum import lookup
+from ..geometry.bvh import trace_closest, trace_occluded, triangle_normal
+from ..spectra.kernel import lookup
 
 NW = C.N_WAVELENGTHS
 LMIN = C.LAMBDA_MIN

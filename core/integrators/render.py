@@ -11,36 +11,21 @@ from __future__ import annotations
 
 import gc
 import os
-import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
 
-from . import constants as C
-from . import presets, warmup
-from .accel import build as build_bvh
-from .film import Film
-from .scene import Material, Scene, SceneError, validate
-from .spectra import moments
+from .. import constants as C
+from ..io import presets
+from . import warmup
+from ..geometry.accel import build as build_bvh
+from ..film import Film
+from ..scene import Material, Scene, SceneError, validate
+from ..spectra import moments
+from .warmup import kernels_compiled
 
-def _process_lock():
-    """One lock per process, shared by every copy of this package that is loaded.
-
-    Blender may hold two copies (an installed extension and a development checkout); they
-    share numba, so the lock lives on the numba module.
-    """
-    import numba
-
-    lock = getattr(numba, "_spectral_gi_kernel_lock", None)
-    if lock is None:
-        lock = threading.Lock()
-        numba._spectral_gi_kernel_lock = lock
-    return lock
-
-
-KERNEL_LOCK = _process_lock()
 
 # Target wall time of one pass, so progress and cancel stay live (architecture: 0.1–0.5 s).
 PASS_SECONDS = 0.3
@@ -111,7 +96,7 @@ def cmf_table(observer="1931"):
     """CIE colour-matching functions on the renderer's grid: float32 (N_LAMBDA, 3) for the
     CIE 1931 observer; for another observer (N_LAMBDA, 4): its x̄, ȳ, z̄ and V(λ) (the 1931
     ȳ), which photometry keeps using (see core/film.py and the path kernel)."""
-    from .film import check_observer
+    from ..film import check_observer
 
     observer = check_observer(observer)
     grid = moments.grid()
@@ -131,7 +116,7 @@ def v_lambda(cmf):
 def camera_vector(cam, settings=None):
     """Pack a Camera into the float64[CAM_SIZE] the kernel reads (Blender's sensor-fit rules;
     layout in core/kernels/camera.py)."""
-    from .kernels import camera as K
+    from ..camera import kernel as K
 
     w, h = float(cam.width), float(cam.height)
     fit = cam.sensor_fit
@@ -168,7 +153,7 @@ def camera_vector(cam, settings=None):
 
 def filter_distribution(settings):
     """The pixel filter's 1D distribution (box of 1 px when ``settings`` is None)."""
-    from .kernels.camera import filter_table
+    from ..camera.kernel import filter_table
 
     if settings is None:
         return filter_table(C.FILTER_BOX, 1.0)
@@ -187,7 +172,7 @@ def _luminance_scale(shape_row, cmf, luminance, what):
 
 def material_row(m, index=0):
     """The float64[16] parameter row of a material (its ``params``, or its model's defaults)."""
-    from .bsdfs.params import make_params
+    from ..bsdfs.params import make_params
 
     row = np.zeros(C.MATERIAL_PARAMS)
     if m.params is not None:
@@ -235,7 +220,7 @@ def camera_medium(scene: Scene, v0, v1, v2, tri_mat_orig, mat_medium):
     whose material has an interior medium; seen from its back side, the camera is inside.
     (One level of nesting, as the kernel tracks.) The majority of the directions decides,
     so a ray through an edge cannot."""
-    from .accel import brute_force_closest
+    from ..geometry.accel import build, closest
 
     bound = np.nonzero(mat_medium[tri_mat_orig] >= 0)[0] if tri_mat_orig.size else np.zeros(0, np.int64)
     if bound.size == 0:
@@ -244,8 +229,8 @@ def camera_medium(scene: Scene, v0, v1, v2, tri_mat_orig, mat_medium):
     dirs = np.array([[0.2673, 0.5345, 0.8018], [-0.7071, 0.3015, -0.6396], [0.4364, -0.8729, 0.2182]])
     dirs /= np.linalg.norm(dirs, axis=1)[:, None]
     a, b, c = v0[bound], v1[bound], v2[bound]
-    t, hit = brute_force_closest(a.astype(np.float32), b.astype(np.float32), c.astype(np.float32),
-                                 np.repeat(eye[None], 3, 0), dirs)
+    t, hit = closest(build(a.astype(np.float32), b.astype(np.float32), c.astype(np.float32)),
+                     np.repeat(eye[None], 3, 0), dirs)
     votes = []
     for k in range(3):
         if hit[k] < 0:
@@ -280,7 +265,7 @@ def world_emission_basis(cmf=None):
 
 def _world_image(world, cmf, scene_radius):
     """Kernel arrays of the world image: (img, distribution, par, basis rows or None, flux in lm)."""
-    from .sampling import build_distribution_2d
+    from ..sampling import build_distribution_2d
 
     img = world.image
     if img is None or not world.image_scale > 0 or not float(np.max(img)) > 0:
@@ -334,8 +319,8 @@ def _profile_table(scene, li, what, geo_row, LG):
     profile_mode "file" keeps the profile's candela, "peak" scales its maximum to
     ``intensity``, "flux" scales ∫ I · spot mask dω to ``flux`` lm.
     """
-    from .io.photometric import flux as profile_flux
-    from .lightunits import spot_falloff
+    from ..photometry.profiles import flux as profile_flux
+    from ..photometry.lightunits import spot_falloff
 
     pr = scene.profiles[li.profile]
     n = np.asarray(li.direction, np.float64)
@@ -447,7 +432,7 @@ def prepare(scene: Scene, measure=False) -> Prepared:
                                                  f"materials ({m.name!r}).emission")
 
     # analytic lights (row layout and units: core/kernels/lights.py)
-    from .kernels import lights as LG
+    from ..lights import kernel as LG
 
     n_l = len(scene.lights)
     light_kind = np.zeros(n_l, np.int32)
@@ -532,7 +517,7 @@ def prepare(scene: Scene, measure=False) -> Prepared:
     if world_basis is not None:
         spec = np.concatenate([spec, world_basis.astype(np.float32)])
     # image textures: the reflectance basis rows a base colour texel's rgb weighs
-    from . import textures as TX
+    from .. import textures as TX
 
     tri_tex = TX.triangle_frames(scene, bvh.prims)
     tex_data, tex_info = TX.pack(scene.textures)
@@ -622,7 +607,7 @@ def prepare(scene: Scene, measure=False) -> Prepared:
 
 
 def _rows(prep, film, y0, y1, s0, s1):
-    from .kernels.path import render_rows, scratch
+    from .path import render_rows, scratch
 
     st = prep.scene.settings
     b = prep.bvh
@@ -679,16 +664,10 @@ class RenderStats:
     relative_error: float = float("nan")  # relative standard error of the image's mean luminance
 
 
-def kernels_compiled():
-    """True if the path kernel is already compiled in this process."""
-    from .kernels.path import render_rows
-    return bool(render_rows.signatures)
-
-
 def relative_error(film):
     """Relative standard error of the image's mean luminance, from the film's per-pixel
     sums of Y and Y² (pixels are independent): sqrt(Σ var(pixel mean)) / Σ pixel mean."""
-    from .film import photometric_y_sums
+    from ..film import photometric_y_sums
 
     sums = film.sums
     n = sums[..., 3]

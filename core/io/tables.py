@@ -6,8 +6,8 @@ imported inside :func:`generate_tables`.  Nothing is written at import time.
 
 Usage::
 
-    python -c "from spectral_gi.core.tables import generate_tables; \\
-               from spectral_gi.core.presets import PRESETS_DIR; \\
+    python -c "from spectral_gi.core.io.tables import generate_tables; \\
+               from spectral_gi.core.io.presets import PRESETS_DIR; \\
                generate_tables(PRESETS_DIR)"
 
 The hand-transcribed files (the Cornell box under ``presets/scenes/``, the
@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .io.atomic import write_text
+from .atomic import write_text
 
 # colour-science dataset key -> file written, relative to the output folder.
 CMFS_OUTPUTS = {

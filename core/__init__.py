@@ -17,10 +17,10 @@ from .scene.builtin import cornell_box
 from .spectra.uplift import (
     emission_from_rgb, emission_from_samples, emission_to_rgb, reflectance_from_rgb,
     reflectance_from_samples, reflectance_to_rgb)
-from .photometry.units import EMITTER_UNITS, area_light_luminance, emission_luminance, emitter_luminance
 from .colour import sRGB_decode
 from .colour.compare import compare_images, delta_e_image, side_by_side
-from .photometry.lightunits import (
+from .photometry.units import (EMITTER_UNITS, area_light_luminance, emission_luminance, emitter_luminance,
+                               
     LIGHT_UNITS, light_emission_coeffs, light_photometric, light_spectrum_names, point_light_intensity,
     scene_white_xy, spot_solid_angle, sun_illuminance)
 # materials: BSDF parameter rows, IOR tables and named spectral presets (the add-on's material export)

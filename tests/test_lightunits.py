@@ -1,10 +1,10 @@
-"""Blender light units → contract photometry (core/lightunits.py), by hand and by integration."""
+"""Blender light units → contract photometry (core/photometry/units.py), by hand and by integration."""
 import math
 
 import numpy as np
 import pytest
 
-from spectral_gi.core.photometry import lightunits as LU
+from spectral_gi.core.photometry import units as LU
 from spectral_gi.core.photometry.units import emitter_luminance
 
 

@@ -316,7 +316,7 @@ def test_profiled_spot_flux_includes_its_cone():
     np.testing.assert_allclose(prep.emit_prob, [0.5, 0.5], rtol=1e-9)
     # the spot emits 500 lm inside the cone: its peak is 500 / ∫ cos θ · mask dω
     mu = np.linspace(math.cos(size / 2), 1, 200001)
-    from spectral_gi.core.photometry.lightunits import spot_falloff
+    from spectral_gi.core.photometry.units import spot_falloff
     integral = 2 * math.pi * np.trapz(mu * spot_falloff(mu, size, blend), mu)
     s = prep.light_scale[0] / prep.light_scale[1] * 500.0 / (4 * math.pi)
     assert s == pytest.approx(500.0 / integral, rel=2e-3)

@@ -320,7 +320,7 @@ def _profile_table(scene, li, what, geo_row, LG):
     ``intensity``, "flux" scales ∫ I · spot mask dω to ``flux`` lm.
     """
     from ..photometry.profiles import flux as profile_flux
-    from ..photometry.lightunits import spot_falloff
+    from ..photometry.units import spot_falloff
 
     pr = scene.profiles[li.profile]
     n = np.asarray(li.direction, np.float64)

@@ -19,9 +19,8 @@ from .spectra.uplift import (
     reflectance_from_samples, reflectance_to_rgb)
 from .colour import sRGB_decode
 from .colour.compare import compare_images, delta_e_image, side_by_side
-from .photometry.units import (EMITTER_UNITS, area_light_luminance, emission_luminance, emitter_luminance,
-                               
-    LIGHT_UNITS, light_emission_coeffs, light_photometric, light_spectrum_names, point_light_intensity,
+from .photometry.units import (
+    EMITTER_UNITS, area_light_luminance, emission_luminance, emitter_luminance, LIGHT_UNITS, light_emission_coeffs, light_photometric, light_spectrum_names, point_light_intensity,
     scene_white_xy, spot_solid_angle, sun_illuminance)
 # materials: BSDF parameter rows, IOR tables and named spectral presets (the add-on's material export)
 from .bsdfs.params import (

@@ -32,7 +32,7 @@ from .bsdfs.presets import (
     reflectance_preset_names, tabulate_reflectance, wavelength_grid)
 from .scene import IORTable
 from .scene import Medium  # participating media (compendium item 54)
-from .textures import Texture  # image textures
+from .scene import Texture  # image textures
 # tabulated spectrum files (materials' reflectance, lights' emission shape)
 from .io.spectrum_file import SpectrumFileError, load_spectrum_file, spectrum_file_coeffs
 # photometric light profiles (IES LM-63, EULUMDAT)

@@ -14,7 +14,8 @@ from spectral_gi.core.scene import (
     Camera, Light, Material, Mesh, RenderSettings, Scene, SceneError, SpectrumTable, World, load, save,
     validate)
 from spectral_gi.core.spectra import moments
-from spectral_gi.core.textures import Texture, pack, reflectance_basis
+from spectral_gi.core.scene import Texture
+from spectral_gi.core.textures import pack, reflectance_basis
 
 # ----------------------------------------------------------------------------- the lookup
 

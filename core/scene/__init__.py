@@ -25,11 +25,13 @@ import numpy as np
 
 from .. import constants as C
 from ..io.atomic import atomic_path, write_text
-from ..textures import Texture
-
-
-class SceneError(ValueError):
-    """A scene (or scene file) is malformed. The message names the offending field."""
+from .checks import SceneError
+from .checks import check_array as _check_array
+from .checks import check_number as _check_number
+from .checks import check_vec3 as _check_vec3
+from .checks import fail as _fail
+from .textures import Texture
+from .textures import check as _check_textures
 
 
 @dataclass
@@ -295,7 +297,7 @@ class Scene:
     lights: list[Light] = field(default_factory=list)
     ior_tables: IORTable = field(default_factory=IORTable.empty)
     media: list[Medium] = field(default_factory=list)
-    textures: list[Texture] = field(default_factory=list)  # image textures, core/textures.py
+    textures: list[Texture] = field(default_factory=list)  # image textures, core/scene/textures.py
     profiles: list[Profile] = field(default_factory=list)
     camera: Camera = field(default_factory=lambda: Camera(np.eye(4)))
     world: World = field(default_factory=World)
@@ -309,44 +311,6 @@ class Scene:
 
 
 # --------------------------------------------------------------------------- validation
-
-
-def _fail(field_name, problem):
-    raise SceneError(f"{field_name}: {problem}")
-
-
-def _check_array(name, a, dtype, shape):
-    """shape: tuple with None for free dimensions."""
-    if not isinstance(a, np.ndarray):
-        _fail(name, f"expected a numpy array, got {type(a).__name__}")
-    if a.dtype != np.dtype(dtype):
-        _fail(name, f"expected dtype {np.dtype(dtype).name}, got {a.dtype.name}")
-    if a.ndim != len(shape) or any(s is not None and s != d for s, d in zip(shape, a.shape)):
-        want = "(" + ", ".join("N" if s is None else str(s) for s in shape) + ")"
-        _fail(name, f"expected shape {want}, got {a.shape}")
-    if np.issubdtype(a.dtype, np.floating) and not np.all(np.isfinite(a)):
-        bad = np.argwhere(~np.isfinite(a))[0]
-        _fail(name, f"contains NaN or Inf (first at index {tuple(int(i) for i in bad)})")
-
-
-def _check_number(name, v, lo=-math.inf, hi=math.inf, integer=False):
-    if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
-        _fail(name, f"expected a number, got {type(v).__name__}")
-    if integer and int(v) != v:
-        _fail(name, f"expected an integer, got {v}")
-    if not math.isfinite(float(v)):
-        _fail(name, f"must be finite, got {v}")
-    if not lo <= v <= hi:
-        _fail(name, f"must be in [{lo}, {hi}], got {v}")
-
-
-def _check_vec3(name, v):
-    a = np.asarray(v, dtype=np.float64) if not isinstance(v, np.ndarray) else v
-    if a.shape != (3,):
-        _fail(name, f"expected 3 numbers, got shape {a.shape}")
-    if not np.all(np.isfinite(a)):
-        _fail(name, "contains NaN or Inf")
-    return a
 
 
 def validate(scene: Scene) -> Scene:
@@ -475,9 +439,8 @@ def validate(scene: Scene) -> Scene:
         for key in ("sensor", "holdout"):
             if not isinstance(getattr(mesh, key), (bool, np.bool_)):
                 _fail(f"{nm}.{key}", f"expected true or false, got {getattr(mesh, key)!r}")
-    from .. import textures as _textures
 
-    _textures.check(scene, _fail)
+    _check_textures(scene, _fail)
 
     n_prof = len(scene.profiles)
     for i, pr in enumerate(scene.profiles):

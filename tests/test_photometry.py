@@ -214,9 +214,3 @@ def test_nd_and_nan_spectra():
     assert np.isnan(V[0]) and V[2] == 1.0
     with pytest.raises(ValueError):
         P.luminous_flux(wl, S[:-1])
-
-
-def test_lazy_reexport_from_colour_package():
-    assert C.luminous_flux is P.luminous_flux
-    assert C.radiometric_scale_for is P.radiometric_scale_for
-    assert "luminous_flux" in C.__all__

@@ -4,9 +4,7 @@ Names and conventions follow colour-science (which is only the tests' oracle: no
 here imports it, since Blender's Python does not ship it). numpy only; every function
 is vectorised over any leading shape. Compendium items 63, 64, 66, 67, 68.
 
-Photometric integrals (K_m ∫ V Φ dλ, items 31–36) live in ``core.photometry``; their
-public names are re-exported here lazily (``core.photometry`` imports this package, so an
-eager import would be circular).
+Photometric integrals (K_m ∫ V Φ dλ, items 31–36) live in ``core.photometry``.
 """
 from .adaptation import CAT_BRADFORD, chromatic_adaptation_Bradford, matrix_chromatic_adaptation_Bradford
 from .difference import delta_E_CIE1976, delta_E_CIE2000  # noqa: F401
@@ -54,23 +52,3 @@ __all__ = [
     # colour differences
     "delta_E_CIE1976", "delta_E_CIE2000",
 ]
-
-_PHOTOMETRY_NAMES = (
-    "K_CD", "K_M_CIE2019", "LAMBDA_KCD_AIR_NM", "LAMBDA_KCD_VACUUM_NM", "UNITS",
-    "luminous_efficiency_function", "radiant_quantity",
-    "luminous_flux", "luminous_energy", "luminous_intensity", "illuminance", "luminous_exitance",
-    "luminance", "luminous_efficiency", "luminous_efficacy", "luminous_flux_monochromatic",
-    "radiometric_scale_for",
-    "isotropic_flux_to_intensity", "isotropic_intensity_to_flux",
-    "lambertian_exitance_to_radiance", "lambertian_radiance_to_exitance", "point_source_illuminance",
-    "lux_to_footcandle", "footcandle_to_lux", "nit_to_footlambert", "footlambert_to_nit",
-)
-__all__ += list(_PHOTOMETRY_NAMES)
-
-
-def __getattr__(name):
-    if name in _PHOTOMETRY_NAMES:
-        from ..photometry import quantities as photometry
-
-        return getattr(photometry, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

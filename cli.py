@@ -161,7 +161,6 @@ def _render(args):
     from .core.io.png import write_png
     from .core.integrators.render import render
     from .core.scene import SceneError, load, validate
-    from .core.scene.builtin import cornell_box
 
     from .core.scene.builtin import BUILTIN_SCENES
 

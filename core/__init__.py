@@ -20,8 +20,8 @@ from .spectra.uplift import (
 from .colour import sRGB_decode
 from .colour.compare import compare_images, delta_e_image, side_by_side
 from .photometry.units import (
-    EMITTER_UNITS, area_light_luminance, emission_luminance, emitter_luminance, LIGHT_UNITS, light_emission_coeffs, light_photometric, light_spectrum_names, point_light_intensity,
-    scene_white_xy, spot_solid_angle, sun_illuminance)
+    EMITTER_UNITS, LIGHT_UNITS, area_light_luminance, emission_luminance, emitter_luminance, light_emission_coeffs,
+    light_photometric, light_spectrum_names, point_light_intensity, scene_white_xy, spot_solid_angle, sun_illuminance)
 # materials: BSDF parameter rows, IOR tables and named spectral presets (the add-on's material export)
 from .bsdfs.params import (
     blinn_phong_params, conductor_params, dielectric_params, ggx_conductor_params, ggx_dielectric_params,
@@ -39,7 +39,8 @@ from .io.spectrum_file import SpectrumFileError, load_spectrum_file, spectrum_fi
 from .photometry.profiles import PhotometricError, read_profile
 from .photometry.profiles import preset_profiles as photometric_presets
 from .scene import Profile
-from .integrators.sensors import has_sensors, illuminance_image, illuminance_stats, render_illuminance  # lux on sensor meshes
+# lux on sensor meshes
+from .integrators.sensors import has_sensors, illuminance_image, illuminance_stats, render_illuminance
 
 __all__ = [
     "constants",

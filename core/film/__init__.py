@@ -151,7 +151,8 @@ class Film:
 
         buf = io.BytesIO()
         np.savez_compressed(buf, format=np.array(FILM_FORMAT), version=np.array(FILM_VERSION),
-                            spp=np.array(self.spp, np.int64), observer=np.array(self.observer), sums=self.sums, spectral=self.spectral, aov=self.aov)
+                            spp=np.array(self.spp, np.int64), observer=np.array(self.observer), sums=self.sums,
+                            spectral=self.spectral, aov=self.aov)
         write_bytes(Path(path), buf.getvalue())
         return Path(path)
 
@@ -199,7 +200,8 @@ class Developed:
     albedo: np.ndarray = None  # (H, W, 3) linear Rec.709 reflectance of the first non-delta hit (under D65)
     normal: np.ndarray = None  # (H, W, 3) mean world shading normal of the first hit, facing the camera
     depth: np.ndarray = None  # (H, W) mean camera-ray distance to the first hit (m), inf where nothing was hit
-    alpha: np.ndarray = None  # (H, W) film alpha: the fraction of samples not left transparent (holdout, transparent film)
+    # (H, W) film alpha: the fraction of samples not left transparent (holdout, transparent film)
+    alpha: np.ndarray = None
     output: np.ndarray = None  # (H, W, 3) the image in ``colour_space`` (white-balanced as rgb, except xyz)
     colour_space: str = "rec709"  # 'rec709', 'acescg' or 'xyz' (see core.film)
     observer: str = "1931"  # CIE observer of XYZ (and of xyY, Lab, Luv): '1931' (2°) or '1964' (10°)

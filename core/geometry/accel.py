@@ -40,7 +40,8 @@ class BVH:
             cnt = lk[:, K.C_CNT + c]
             ref = lk[:, K.C_REF + c]
             leaf = (cnt > 0) & (ref >= 0)
-            blocks.append(ref[leaf]); counts.append(cnt[leaf])
+            blocks.append(ref[leaf])
+            counts.append(cnt[leaf])
             boxes.append(self.child_boxes(c)[leaf])
         blocks = np.concatenate(blocks)
         firsts = self.tris.view(np.int32)[blocks, K.PRIM_COL] if blocks.size else blocks

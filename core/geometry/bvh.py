@@ -52,7 +52,7 @@ from numba import prange
 
 from ..jit import function, inline, kernel
 from .prefetch import prefetch_lines
-from .simd import BLOCK, BLOCK_COLS, PRIM_COL, f32_below, hit4, hit4_nearest, slab4
+from .simd import BLOCK, PRIM_COL, f32_below, hit4, hit4_nearest, slab4
 
 N_BINS = 16
 MAX_LEAF = 8  # ranges this small always become leaves (fewer nodes, same ray speed as 4)

@@ -19,7 +19,6 @@ from spectral_gi.core import jit
 from spectral_gi.core.spectra.library import metal_ior
 
 import chi2
-from chi2 import alpha  # noqa: F401  (the Šidák-corrected significance fixture)
 
 NW = C.N_WAVELENGTHS
 AU_ETA, AU_K = metal_ior("Au", np.array([450.0, 520.0, 600.0, 680.0]))

@@ -3,7 +3,7 @@ import math
 
 import numpy as np
 import pytest
-from chi2 import alpha, chi2_interval  # noqa: F401  (alpha: the Šidák-corrected significance fixture)
+from chi2 import chi2_interval
 from helpers import flat_emission
 
 from spectral_gi.core import constants as C

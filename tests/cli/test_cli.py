@@ -1,6 +1,4 @@
 """The spectral-gi command line, run as a user runs it (a subprocess)."""
-import json
-import os
 import signal
 import subprocess
 import sys

@@ -36,7 +36,8 @@ def quad_scene(normals=None, sun_towards=(0.0, 0.0, 1.0), res=8, spp=16, reflect
         m[:3, :3] = np.diag([1.0, -1.0, -1.0])
     cam = Camera(m, width=res, height=res, projection=C.CAM_ORTHOGRAPHIC, ortho_scale=ortho)
     return Scene(meshes=[mesh], spectra=spectra, materials=[Material("quad", reflectance=r)], lights=[sun],
-                 camera=cam, settings=RenderSettings(spp=spp, max_depth=0, seed=9, filter=C.FILTER_BOX, filter_width=1.0))
+                 camera=cam,
+                 settings=RenderSettings(spp=spp, max_depth=0, seed=9, filter=C.FILTER_BOX, filter_width=1.0))
 
 
 def _unit(v):

@@ -3,7 +3,7 @@ import math
 
 import numpy as np
 import pytest
-from chi2 import alpha, chi2_plane  # noqa: F401  (alpha: the Šidák-corrected significance fixture)
+from chi2 import chi2_plane
 from helpers import flat_reflectance, look_at
 
 from spectral_gi.core import constants as C

@@ -275,7 +275,8 @@ def sky_pixel_E(half, hb=1.0, res=20, view=2.0, n_sub=64):
         for i in range(res):
             x = np.repeat(-view / 2 + (i + sub) * px, n_sub)
             y = np.tile(view / 2 - (j + sub) * px, n_sub)
-            if max(np.abs(x).max(), np.abs(y).max()) < half - px or max(np.abs(x).min(), np.abs(y).min()) > 2 * px + half:
+            inside = max(np.abs(x).max(), np.abs(y).max()) < half - px
+            if inside or max(np.abs(x).min(), np.abs(y).min()) > 2 * px + half:
                 continue  # well under the box, or far off it: not needed
             e = sky_E(x, y, half, hb)
             ok = np.isfinite(e)

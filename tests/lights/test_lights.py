@@ -4,52 +4,12 @@ import math
 
 import numpy as np
 import pytest
-from helpers import flat_emission, flat_reflectance, look_at
+from helpers import RHO, check_luminance, ground_points, look_at, plane_scene, render_lum
 
 from spectral_gi.core import constants as C
 from spectral_gi.core.integrators import render as R
-from spectral_gi.core.film import develop
 from spectral_gi.core.scene import (
-    Camera, Light, Material, Mesh, RenderSettings, Scene, SceneError, SpectrumTable, load, save, validate)
-
-RHO = 0.8
-CAM_H = 3.0
-
-
-def plane_scene(lights, res=12, half_view=0.8, spp=32, max_depth=0, seed=1):
-    """A white Lambert plane z = 0 (ρ = 0.8) and a camera at height 3 looking straight down
-    whose view covers [-half_view, half_view]² of the plane."""
-    spectra = SpectrumTable.empty()
-    r = spectra.add("grey", flat_reflectance(RHO), C.SPECTRUM_BOUNDED)
-    e = spectra.add("flat", flat_emission(), C.SPECTRUM_UNBOUNDED)
-    s = 50.0
-    plane = Mesh("plane", np.array([[-s, -s, 0], [s, -s, 0], [s, s, 0], [-s, s, 0]], np.float32),
-                 np.array([[0, 1, 2], [0, 2, 3]], np.int32), np.zeros(2, np.int32))
-    lens = 18.0 * CAM_H / half_view  # half of the 36 mm sensor over the lens = half_view / height
-    cam = Camera(look_at((0, 0, CAM_H), (0, 0, 0), up=(0, 1, 0)), width=res, height=res, lens_mm=lens)
-    for li in lights:
-        li.spectrum = e
-    return Scene(meshes=[plane], spectra=spectra, materials=[Material("plane", reflectance=r)], lights=list(lights),
-                 camera=cam, settings=RenderSettings(spp=spp, max_depth=max_depth, seed=seed, filter=C.FILTER_BOX,
-                                                 filter_width=1.0))
-
-
-def ground_points(sc, sub=6):
-    """(H, W, sub², 3) points of the plane seen through a sub × sub grid in every pixel."""
-    cam = sc.camera
-    w, h = cam.width, cam.height
-    half = 0.5 * cam.sensor_width_mm / cam.lens_mm
-    o = (np.arange(sub) + 0.5) / sub
-    px = (np.arange(w)[:, None] + o[None, :]).reshape(-1)
-    py = (np.arange(h)[:, None] + o[None, :]).reshape(-1)
-    sx = (px / w * 2 - 1) * half
-    sy = (1 - py / h * 2) * half
-    m = cam.to_world
-    d = (m[:3, 0][None, None] * sx[None, :, None] + m[:3, 1][None, None] * sy[:, None, None] - m[:3, 2])
-    t = m[2, 3] / -d[..., 2]
-    p = m[:3, 3] + t[..., None] * d  # (h·sub, w·sub, 3)
-    return p.reshape(h, sub, w, sub, 3).transpose(0, 2, 1, 3, 4).reshape(h, w, sub * sub, 3)
-
+    Light, SceneError, load, save, validate)
 
 def smoothstep(x):
     x = np.clip(x, 0, 1)
@@ -75,16 +35,6 @@ def point_expected(sc, pos, intensity, mask=None):
     return (RHO / np.pi * intensity * m * cos / d2).mean(-1)
 
 
-def render_lum(sc):
-    return develop(R.render(sc)[0].sums)
-
-
-def _check(d, expected, rel):
-    err = np.abs(d.luminance - expected)
-    assert np.all(err <= rel * expected.max() + 4.5 * np.sqrt(d.variance)), \
-        (err.max(), expected.max(), np.unravel_index(err.argmax(), err.shape))
-
-
 def _check_mean(d, expected):
     """Only the wavelength sampling varies: the mean is within noise and 1 % of ``expected``."""
     se = np.sqrt(d.variance.mean() / d.luminance.size)
@@ -105,7 +55,7 @@ def test_point_and_sphere_light_give_I_cos_over_d2(radius):
     pos, inten = (0.2, -0.1, 1.0), 50.0
     sc = plane_scene([_point(pos, inten, radius)], spp=64 if radius else 8)
     d = render_lum(sc)
-    _check(d, point_expected(sc, pos, inten), 0.02)
+    check_luminance(d, point_expected(sc, pos, inten), 0.02)
     assert abs(d.luminance.mean() / point_expected(sc, pos, inten).mean() - 1) < 0.01
 
 
@@ -142,7 +92,7 @@ def test_spot_blend_profile_follows_blenders_smoothstep(radius):
     exp = point_expected(sc, pos, inten, mask=lambda q: blender_spot_mask(q @ a, size, blend))
     # the profile really varies across the view: dark corners, a ramp, a lit core
     assert exp.max() > 0 and (exp == 0).sum() > 10 and ((exp > 0.1 * exp.max()) & (exp < 0.9 * exp.max())).sum() > 20
-    _check(d, exp, 0.03)
+    check_luminance(d, exp, 0.03)
 
 
 @pytest.mark.statistical

@@ -5,7 +5,6 @@ import math
 
 import numpy as np
 import pytest
-from chi2 import alpha  # noqa: F401  (the Šidák-corrected significance fixture)
 from chi2 import chi2_interval, chi2_sphere, seed_for, ztest, ztest_samples
 from helpers import box_mesh, flat_emission, flat_reflectance, furnace_scene, look_at
 

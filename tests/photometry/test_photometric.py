@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from test_lights import RHO, _check, ground_points, plane_scene, render_lum
+from helpers import RHO, check_luminance, ground_points, plane_scene, render_lum
 
 from spectral_gi.core import constants as C
 from spectral_gi.core.integrators import render as R
@@ -359,7 +359,7 @@ def test_profiled_light_over_a_lambert_plane(radius, axis_u, nee):
     d = render_lum(sc)
     exp = profile_expected(sc, li, pr)
     assert exp.max() > 3 * exp[exp > 0].min()  # a real variation across the view
-    _check(d, exp, 0.03 if radius == 0 else 0.05)
+    check_luminance(d, exp, 0.03 if radius == 0 else 0.05)
 
 
 @pytest.mark.statistical
@@ -382,4 +382,4 @@ def test_profiled_spot_is_profile_times_mask():
     d2 = (v ** 2).sum(-1)
     exp = (RHO / np.pi * 200.0 / pr.candela.max() * P.evaluate(pr, th, c) * mask * -q[..., 2] / d2).mean(-1)
     assert (exp == 0).sum() > 10 and exp.max() > 0
-    _check(d, exp, 0.03)
+    check_luminance(d, exp, 0.03)

@@ -4,7 +4,6 @@ import math
 
 import numpy as np
 import pytest
-from chi2 import alpha  # noqa: F401  (the Šidák-corrected significance fixture)
 from chi2 import chi2_interval, chi2_plane, chi2_sphere, integrate_cells, seed_for, ztest, ztest_samples
 from scipy import integrate
 

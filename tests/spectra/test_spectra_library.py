@@ -419,7 +419,8 @@ def test_glass_unknown():
 def test_glasses_file_validation(tmp_path, monkeypatch):
     monkeypatch.setattr(presets, "PRESETS_DIR", tmp_path)
     path = tmp_path / "glasses.toml"
-    good = 'schema = 1\n[glass.x]\nformula = "cauchy"\nA = 1.5\nB_nm2 = 4000\nnd = 1.51\nabbe = 60\nrange_nm = [400, 700]\n'
+    good = ('schema = 1\n[glass.x]\nformula = "cauchy"\nA = 1.5\nB_nm2 = 4000\nnd = 1.51\nabbe = 60\n'
+            'range_nm = [400, 700]\n')
     path.write_text(good)
     assert presets.glasses()["x"]["C_nm4"] == 0.0
     for broken, message in [

@@ -79,7 +79,8 @@ def plane(material=0, corner=True):
     idx = np.array([[0, 1, 2], [0, 2, 3]], np.int32)
     uv = (pos[:, :2] + 1) / 2
     if corner:
-        return Mesh("plane", pos, idx, np.full(2, material, np.int32), corner_uvs=np.ascontiguousarray(uv[idx].reshape(-1, 2)))
+        return Mesh("plane", pos, idx, np.full(2, material, np.int32),
+                    corner_uvs=np.ascontiguousarray(uv[idx].reshape(-1, 2)))
     return Mesh("plane", pos, idx, np.full(2, material, np.int32), uvs=np.ascontiguousarray(uv))
 
 
@@ -201,7 +202,8 @@ def glossy_scene(materials, textures=()):
     return plane_scene(materials, textures, sp, lights=[sun], spp=8)
 
 
-@pytest.mark.parametrize("model, params", [(C.MAT_GGX_CONDUCTOR, ggx_conductor_params), (C.MAT_PLASTIC, plastic_params)])
+@pytest.mark.parametrize("model, params", [(C.MAT_GGX_CONDUCTOR, ggx_conductor_params),
+                                           (C.MAT_PLASTIC, plastic_params)])
 def test_roughness_texture_equals_constant_roughness(model, params):
     """A checker of roughness 0.3 | 0.7: each half is pixel for pixel the material with α = r²."""
     img = np.array([[[0.3], [0.7]]], np.float32)

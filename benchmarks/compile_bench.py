@@ -1,4 +1,4 @@
-"""Cold-start compile time of the first render (issue #5: under 60 s, with a visible message).
+"""Cold-start compile time of the first render (target: under 60 s, with a visible message).
 
     python benchmarks/compile_bench.py [--serial] [--record]
 

@@ -1,4 +1,4 @@
-"""The speed race of issue #5: this renderer against Cycles and Mitsuba 3 on the Cornell box.
+"""The speed race: this renderer against Cycles and Mitsuba 3 on the Cornell box.
 
     python benchmarks/race.py [--spp 256] [--bounces 4] [--size 256] [--threads 2] [--rounds 2]
                               [--seconds 10] [--rmse-size 128] [--skip speed,rmse,overhead]

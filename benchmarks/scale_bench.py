@@ -1,4 +1,4 @@
-"""BVH at scale: build time, memory and ray throughput for millions of triangles (issue #5).
+"""BVH at scale: build time, memory and ray throughput for millions of triangles.
 
     python benchmarks/scale_bench.py [--sizes 1,4,16] [--rays 1000000] [--threads 2]
 

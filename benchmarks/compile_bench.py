@@ -49,7 +49,7 @@ def main():
     a = ap.parse_args()
     if a.record:
         from spectral_gi import core
-        from spectral_gi.core import warmup
+        from spectral_gi.core.integrators import warmup
 
         core.render(core.cornell_box(8, 8, spp=1, max_depth=4), threads=1)
         entries = warmup.record()

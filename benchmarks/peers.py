@@ -101,7 +101,7 @@ def _write_ply(path, positions, indices):
 def scene_description(scene, folder):
     """A JSON-able description of ``scene`` for the Mitsuba runner (writes PLY files to ``folder``)."""
     from spectral_gi.core import constants as C
-    from spectral_gi.core.renderer import _luminance_scale, cmf_table
+    from spectral_gi.core.integrators.render import _luminance_scale, cmf_table
     from spectral_gi.core.spectra import moments
 
     spec = moments.tabulate(scene.spectra.coeffs, scene.spectra.kind)

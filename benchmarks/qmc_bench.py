@@ -27,8 +27,9 @@ import numpy as np
 from scipy import integrate
 
 from spectral_gi.core.sampling import batch, stats
-from spectral_gi.core.sampling.tags import (RANDOMIZE_CP, RANDOMIZE_NONE, RANDOMIZE_OWEN, SAMPLER_HALTON,
-                                            SAMPLER_HAMMERSLEY, SAMPLER_INDEPENDENT, WARP_COSINE_HEMISPHERE)
+from spectral_gi.core.sampling.tags import (
+    RANDOMIZE_CP, RANDOMIZE_NONE, RANDOMIZE_OWEN, SAMPLER_HALTON, SAMPLER_HAMMERSLEY, SAMPLER_INDEPENDENT,
+    WARP_COSINE_HEMISPHERE)
 
 SUN = np.array([math.cos(math.radians(40.0)) * math.cos(0.3), math.cos(math.radians(40.0)) * math.sin(0.3),
                 math.sin(math.radians(40.0))])

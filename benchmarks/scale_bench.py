@@ -175,7 +175,7 @@ def _reset_peak():
 
 def tree_stats(bvh):
     """(depth, mean leaf size, SAH cost with unit record-visit and intersection costs)."""
-    from spectral_gi.core.accel import tree_depth
+    from spectral_gi.core.geometry.accel import tree_depth
 
     def area(box):
         ext = (box[:, 3:6] - box[:, 0:3]).astype(np.float64)
@@ -196,8 +196,8 @@ def tree_stats(bvh):
 
 def build(size_m, n_rays):
     """Scene, tree, statistics and rays of one size (timing comes later, interleaved)."""
-    from spectral_gi.core import accel
-    from spectral_gi.core.kernels import bvh as K
+    from spectral_gi.core.geometry import accel
+    from spectral_gi.core.geometry import bvh as K
 
     v0, v1, v2 = make_scene(int(size_m * 1_000_000))
     n = v0.shape[0]
@@ -237,7 +237,7 @@ def _one_ray_loops():
     """The serial one-ray loops, compiled once under the project's jit policy."""
     if not _ONE_RAY:
         from spectral_gi.core.jit import kernel
-        from spectral_gi.core.kernels import bvh as K
+        from spectral_gi.core.geometry import bvh as K
 
         @kernel
         def closest_loop(o, d, nodes, tris):
@@ -303,7 +303,7 @@ def time_one_ray(r, n_max=300_000):
 
 def time_round(r):
     """One timed pass of each query over size ``r``; keeps the best rates seen."""
-    from spectral_gi.core.kernels import bvh as K
+    from spectral_gi.core.geometry import bvh as K
 
     bvh = r["bvh"]
     o, d, tm = r["rays"]

@@ -25,7 +25,7 @@ import results  # benchmarks/results.py: the JSON record of this run
 
 from spectral_gi.core import constants as C
 from spectral_gi.core.colour import XYZ_to_Lab, XYZ_to_xy, delta_E_CIE2000, sd_to_XYZ
-from spectral_gi.core.kernels import spectrum as K
+from spectral_gi.core.spectra import kernel as K
 from spectral_gi.core.spectra import fit
 from spectral_gi.core.spectra import library as L
 from spectral_gi.core.spectra import moments as M
@@ -132,7 +132,7 @@ def _make_lookup_kernel():
     from numba import prange
 
     from spectral_gi.core.jit import kernel
-    from spectral_gi.core.kernels.path import lookup
+    from spectral_gi.core.integrators.path import lookup
 
     @kernel(parallel=True)
     def lookups(table, rows, lams):

@@ -40,8 +40,8 @@ import results  # benchmarks/results.py: the JSON record of this run
 
 from spectral_gi import core
 from spectral_gi.core import constants as C
-from spectral_gi.core.scene import (TRI_SOLID_ANGLE_MAX, TRI_SOLID_ANGLE_MIN, Camera, Material, Mesh, RenderSettings,
-                                    Scene, SpectrumTable)
+from spectral_gi.core.scene import (
+    TRI_SOLID_ANGLE_MAX, TRI_SOLID_ANGLE_MIN, Camera, Material, Mesh, RenderSettings, Scene, SpectrumTable)
 from spectral_gi.core.spectra import uplift
 
 AREA_ONLY = (1.0, 0.0)

@@ -7,38 +7,40 @@ from .film import Developed, Film, develop
 from .io.exr import read_channels as read_exr
 from .io.exr import write_render as write_exr
 from .io.png import write_png
-from .presets import load_cornell_box_data
-from .renderer import RenderStats, kernels_compiled, render
-from .scene import (Camera, Light, Material, Mesh, RenderSettings, Scene, SceneError, SpectrumTable, World,
-                    validate)
+from .io.presets import load_cornell_box_data
+from .integrators.render import RenderStats, kernels_compiled, render
+from .scene import (
+    Camera, Light, Material, Mesh, RenderSettings, Scene, SceneError, SpectrumTable, World, validate)
 from .scene import load as load_scene
 from .scene import save as save_scene
-from .scenes import cornell_box
-from .spectra.uplift import (emission_from_rgb, emission_from_samples, emission_to_rgb, reflectance_from_rgb,
-                             reflectance_from_samples, reflectance_to_rgb)
-from .units import EMITTER_UNITS, area_light_luminance, emission_luminance, emitter_luminance
+from .scene.builtin import cornell_box
+from .spectra.uplift import (
+    emission_from_rgb, emission_from_samples, emission_to_rgb, reflectance_from_rgb,
+    reflectance_from_samples, reflectance_to_rgb)
 from .colour import sRGB_decode
-from .compare import compare_images, delta_e_image, side_by_side
-from .lightunits import (LIGHT_UNITS, light_emission_coeffs, light_photometric, light_spectrum_names,
-                         point_light_intensity, scene_white_xy, spot_solid_angle, sun_illuminance)
+from .colour.compare import compare_images, delta_e_image, side_by_side
+from .photometry.units import (
+    EMITTER_UNITS, LIGHT_UNITS, area_light_luminance, emission_luminance, emitter_luminance, light_emission_coeffs,
+    light_photometric, light_spectrum_names, point_light_intensity, scene_white_xy, spot_solid_angle, sun_illuminance)
 # materials: BSDF parameter rows, IOR tables and named spectral presets (the add-on's material export)
-from .bsdfs.params import (blinn_phong_params, conductor_params, dielectric_params, ggx_conductor_params,
-                           ggx_dielectric_params, lafortune_params, lambert_params, make_params, mirror_params,
-                           phong_params, plastic_params, ward_params)
+from .bsdfs.params import (
+    blinn_phong_params, conductor_params, dielectric_params, ggx_conductor_params, ggx_dielectric_params,
+    lafortune_params, lambert_params, make_params, mirror_params, phong_params, plastic_params, ward_params)
 from .bsdfs.artist import conductor_from_colour
-from .material_presets import (glass_preset, glass_preset_names, metal_preset, metal_preset_names,
-                               reflectance_preset, reflectance_preset_names, tabulate_reflectance,
-                               wavelength_grid)
+from .bsdfs.presets import (
+    glass_preset, glass_preset_names, metal_preset, metal_preset_names, reflectance_preset,
+    reflectance_preset_names, tabulate_reflectance, wavelength_grid)
 from .scene import IORTable
 from .scene import Medium  # participating media (compendium item 54)
-from .textures import Texture  # image textures
+from .scene import Texture  # image textures
 # tabulated spectrum files (materials' reflectance, lights' emission shape)
 from .io.spectrum_file import SpectrumFileError, load_spectrum_file, spectrum_file_coeffs
 # photometric light profiles (IES LM-63, EULUMDAT)
-from .io.photometric import PhotometricError, read_profile
-from .io.photometric import preset_profiles as photometric_presets
+from .photometry.profiles import PhotometricError, read_profile
+from .photometry.profiles import preset_profiles as photometric_presets
 from .scene import Profile
-from .sensors import has_sensors, illuminance_image, illuminance_stats, render_illuminance  # lux on sensor meshes
+# lux on sensor meshes
+from .integrators.sensors import has_sensors, illuminance_image, illuminance_stats, render_illuminance
 
 __all__ = [
     "constants",

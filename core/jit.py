@@ -8,25 +8,26 @@ enforces it.
 """
 import hashlib
 import os
+import threading
 from pathlib import Path
+
 
 import numba
 import numba.core.config
 
 
 def _source_key():
-    """Hash of every source a kernel can inline or call (kernels, BSDFs, samplers), and
-    of the numba version.
+    """Hash of every source under ``core/`` (any of them can hold a kernel or a helper it
+    inlines or calls), and of the numba version.
 
     numba's cache notices edits to the file holding an entry kernel but not to callees
     in other files, so the cache folder is keyed by all of them.
     """
     core = Path(__file__).resolve().parent
     h = hashlib.sha256(numba.__version__.encode())
-    sources = [*(core / "kernels").glob("*.py"), *(core / "bsdfs").glob("*.py"), *(core / "sampling").glob("*.py"),
-               core / "constants.py", core / "jit.py"]
+    sources = list(core.rglob("*.py"))
     for p in sorted(sources):
-        h.update(p.name.encode())
+        h.update(p.relative_to(core).as_posix().encode())
         h.update(p.read_bytes())
     return h.hexdigest()[:16]
 
@@ -42,6 +43,26 @@ def _cache_base():
 CACHE_DIR = _cache_base() / _source_key()
 # Read by numba when each cached kernel is decorated: set before any kernel module loads.
 numba.core.config.CACHE_DIR = str(CACHE_DIR)
+
+def _process_lock():
+    """The lock every launch of a parallel (prange) kernel holds: numba's threading layers
+    abort the process when two threads launch parallel kernels at once, which would take
+    Blender down with them. One lock per process, shared by every copy of this package that is loaded.
+
+    Blender may hold two copies (an installed extension and a development checkout); they
+    share numba, so the lock lives on the numba module.
+    """
+    import numba
+
+    lock = getattr(numba, "_spectral_gi_kernel_lock", None)
+    if lock is None:
+        lock = threading.Lock()
+        numba._spectral_gi_kernel_lock = lock
+    return lock
+
+
+KERNEL_LOCK = _process_lock()
+
 
 _POLICY = dict(cache=True, nogil=True, error_model="numpy")
 

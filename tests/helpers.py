@@ -1,8 +1,13 @@
 """Small scene builders shared by the core tests."""
+import struct
+import zlib
+
 import numpy as np
 
 from spectral_gi.core import constants as C
-from spectral_gi.core.scene import Camera, Light, Material, Mesh, RenderSettings, Scene, SpectrumTable, World
+from spectral_gi.core.film import develop
+from spectral_gi.core.integrators.render import render
+from spectral_gi.core.scene import Camera, Light, Material, Mesh, RenderSettings, Scene, SpectrumTable
 from spectral_gi.core.spectra import uplift
 
 
@@ -71,3 +76,74 @@ def disk_over_plane_scene(radius=0.5, height=1.0, rho=0.8, luminance=1000.0, kin
     cam = Camera(look_at((0, 0, 0.5 * height), (0, 0, 0), up=(0, 1, 0)), width=res, height=res, lens_mm=2000.0)
     return Scene(meshes=[plane], spectra=spectra, materials=[Material("plane", reflectance=r)], lights=[light],
                  camera=cam, settings=RenderSettings(spp=spp, max_depth=0, seed=3))
+
+
+def read_png_rgb8(path):
+    """Read back a PNG written by the product's PNG writer (8-bit RGB, filter 0 only). For tests."""
+    data = open(path, "rb").read()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    pos = 8
+    idat = b""
+    w = h = 0
+    while pos < len(data):
+        (n,) = struct.unpack(">I", data[pos:pos + 4])
+        tag = data[pos + 4:pos + 8]
+        body = data[pos + 8:pos + 8 + n]
+        if tag == b"IHDR":
+            w, h = struct.unpack(">II", body[:8])
+        elif tag == b"IDAT":
+            idat += body
+        pos += 12 + n
+    raw = np.frombuffer(zlib.decompress(idat), np.uint8).reshape(h, 1 + 3 * w)
+    return raw[:, 1:].reshape(h, w, 3)
+
+
+# a white plane under analytic lights, seen from straight above (lights and photometric profiles)
+RHO = 0.8
+CAM_H = 3.0
+
+
+def plane_scene(lights, res=12, half_view=0.8, spp=32, max_depth=0, seed=1):
+    """A white Lambert plane z = 0 (ρ = 0.8) and a camera at height 3 looking straight down
+    whose view covers [-half_view, half_view]² of the plane."""
+    spectra = SpectrumTable.empty()
+    r = spectra.add("grey", flat_reflectance(RHO), C.SPECTRUM_BOUNDED)
+    e = spectra.add("flat", flat_emission(), C.SPECTRUM_UNBOUNDED)
+    s = 50.0
+    plane = Mesh("plane", np.array([[-s, -s, 0], [s, -s, 0], [s, s, 0], [-s, s, 0]], np.float32),
+                 np.array([[0, 1, 2], [0, 2, 3]], np.int32), np.zeros(2, np.int32))
+    lens = 18.0 * CAM_H / half_view  # half of the 36 mm sensor over the lens = half_view / height
+    cam = Camera(look_at((0, 0, CAM_H), (0, 0, 0), up=(0, 1, 0)), width=res, height=res, lens_mm=lens)
+    for li in lights:
+        li.spectrum = e
+    return Scene(meshes=[plane], spectra=spectra, materials=[Material("plane", reflectance=r)], lights=list(lights),
+                 camera=cam, settings=RenderSettings(spp=spp, max_depth=max_depth, seed=seed, filter=C.FILTER_BOX,
+                                                 filter_width=1.0))
+
+
+def ground_points(sc, sub=6):
+    """(H, W, sub², 3) points of the plane seen through a sub × sub grid in every pixel."""
+    cam = sc.camera
+    w, h = cam.width, cam.height
+    half = 0.5 * cam.sensor_width_mm / cam.lens_mm
+    o = (np.arange(sub) + 0.5) / sub
+    px = (np.arange(w)[:, None] + o[None, :]).reshape(-1)
+    py = (np.arange(h)[:, None] + o[None, :]).reshape(-1)
+    sx = (px / w * 2 - 1) * half
+    sy = (1 - py / h * 2) * half
+    m = cam.to_world
+    d = (m[:3, 0][None, None] * sx[None, :, None] + m[:3, 1][None, None] * sy[:, None, None] - m[:3, 2])
+    t = m[2, 3] / -d[..., 2]
+    p = m[:3, 3] + t[..., None] * d  # (h·sub, w·sub, 3)
+    return p.reshape(h, sub, w, sub, 3).transpose(0, 2, 1, 3, 4).reshape(h, w, sub * sub, 3)
+
+
+def render_lum(sc):
+    return develop(render(sc)[0].sums)
+
+
+def check_luminance(d, expected, rel):
+    """Every pixel's luminance within ``rel`` of the image's peak expectation, plus 4.5 standard errors."""
+    err = np.abs(d.luminance - expected)
+    assert np.all(err <= rel * expected.max() + 4.5 * np.sqrt(d.variance)), \
+        (err.max(), expected.max(), np.unravel_index(err.argmax(), err.shape))

@@ -1,6 +1,10 @@
 """The wheel holds every package of the tree, and the extension manifest is consistent."""
+import importlib.util
 import tomllib
+import zipfile
 from pathlib import Path
+
+import pytest
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -22,7 +26,7 @@ def test_manifest_matches_pyproject():
     assert man["id"] == "spectral_gi"
     assert man["version"] == cfg["project"]["version"]
     assert cfg["project"]["name"] == "spectral-gi"
-    assert cfg["project"]["scripts"]["spectral-gi"] == "spectral_gi.core.cli:main"
+    assert cfg["project"]["scripts"]["spectral-gi"] == "spectral_gi.cli:main"
 
 
 def test_root_init_is_the_two_line_shim():
@@ -32,10 +36,6 @@ def test_root_init_is_the_two_line_shim():
 
 # --- Release build: bundled wheels (tools/build_extension.py --wheels), all offline --------------
 
-import importlib.util
-import zipfile
-
-import pytest
 
 
 def _build_tool():

@@ -3,8 +3,8 @@
 
 Stages a clean copy of the repository (the files git tracks or would track, i.e.
 ``git ls-files --cached --others --exclude-standard``, or only tracked files with
-``--tracked-only``; without tests, benchmarks, CI, tools and docs) and runs Blender's own extension build tool on it — the
-standard-library script shipped inside the ``bpy`` wheel
+``--tracked-only``; without tests, benchmarks, CI, tools and docs) and runs Blender's own
+extension build tool on it — the standard-library script shipped inside the ``bpy`` wheel
 (``bpy/<version>/scripts/addons_core/bl_pkg/cli/blender_ext.py``).
 
     python tools/build_extension.py [--wheels] [--output-dir DIR]

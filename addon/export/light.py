@@ -1,7 +1,7 @@
 """Blender lights → core lights: area, point, spot and sun, with photometric units.
 
 Brightness (``Light.spectral_gi.unit``): by default Blender's Power / Strength and colour,
-read as Cycles reads them at 683 lm per Blender watt (core.lightunits); or lumens,
+read as Cycles reads them at 683 lm per Blender watt (core/photometry/units.py); or lumens,
 candela, lux (sun) or cd/m² (area) from a data sheet. Colour
 (``Light.spectral_gi.spectrum``): the light's RGB colour (and Blender's temperature
 tint) as a smooth spectrum, or a blackbody, a CIE illuminant or a CIE LED spectrum.
@@ -20,8 +20,8 @@ import math
 import numpy as np
 
 from .context import ExportError
-from .convert import (AREA_SHAPES, area_light_geometry, area_light_normalising_area, light_power_watts,
-                      light_rgb)
+from .convert import (
+    AREA_SHAPES, area_light_geometry, area_light_normalising_area, light_power_watts, light_rgb)
 
 UNIT_NAMES = {"BLENDER": "blender_W", "LUMEN": "lm", "CANDELA": "cd", "LUX": "lux", "NIT": "cd/m2"}
 SOURCE_NAMES = {"RGB": "rgb", "BLACKBODY": "blackbody", "ILLUMINANT": "illuminant", "LED": "led", "FILE": "file"}

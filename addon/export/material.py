@@ -37,10 +37,12 @@ used instead.
 ``material.spectral_gi.model`` (the material panel) overrides the BSDF with one of the
 core's models and its parameters; the emission of the node tree is kept.
 """
-from .convert import (SMOOTH_ALPHA, combine_emission, glossy_alpha, is_smooth, mix_first_weight, principled_alpha,
-                      rgb_of, specular_level_ior)
-from .nodes import (active_output, constant_input, ignored_links, image_node, image_pixels, input_value,
-                    normal_map_node, shader_inputs, surface_node)
+from .convert import (
+    SMOOTH_ALPHA, combine_emission, glossy_alpha, is_smooth, mix_first_weight, principled_alpha, rgb_of,
+    specular_level_ior)
+from .nodes import (
+    active_output, constant_input, ignored_links, image_node, image_pixels, input_value, normal_map_node,
+    shader_inputs, surface_node)
 
 SUPPORTED_SURFACES = ("BSDF_PRINCIPLED", "BSDF_DIFFUSE", "BSDF_GLOSSY", "BSDF_METALLIC", "BSDF_GLASS",
                       "BSDF_REFRACTION", "BSDF_TRANSPARENT", "EMISSION", "MIX_SHADER", "ADD_SHADER")
@@ -840,8 +842,9 @@ def _spectrum_colour(ctx, mat, settings, node):
 
 def override_tree(ctx, mat, settings, node):
     """The BSDF tree chosen in the material panel (``mat.spectral_gi``)."""
-    from ...core import (blinn_phong_params, constants, lafortune_params, lambert_params, mirror_params,
-                         phong_params, ward_params)
+    from ...core import (
+        blinn_phong_params, constants, lafortune_params, lambert_params, mirror_params, phong_params,
+        ward_params)
 
     name = f"{mat.name}: {settings.model.lower()}"
     two = bool(settings.two_sided)

@@ -18,10 +18,11 @@ core/constants.py) and a float64[16] parameter row (``params``).
 from .albedo import Albedo, albedo, albedo_quadrature, white_furnace
 from .artist import colour_from_conductor, conductor_from_colour
 from .batch import OP_EVAL, OP_PDF, OP_SAMPLE, evaluate, pdf, sample
-from .params import (BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE, BSDF_GLOSSY, BSDF_REFLECTION, BSDF_TRANSMISSION,
-                     WARD_BOUNDED, WARD_DUER, WARD_ORIGINAL, blinn_phong_params, conductor_params,
-                     dielectric_params, ggx_conductor_params, ggx_dielectric_params, lafortune_params,
-                     lambert_params, make_params, mirror_params, phong_params, plastic_params, ward_params)
+from .params import (
+    BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE, BSDF_GLOSSY, BSDF_REFLECTION, BSDF_TRANSMISSION, WARD_BOUNDED,
+    WARD_DUER, WARD_ORIGINAL, blinn_phong_params, conductor_params, dielectric_params, ggx_conductor_params,
+    ggx_dielectric_params, lafortune_params, lambert_params, make_params, mirror_params, phong_params,
+    plastic_params, ward_params)
 
 __all__ = [
     "Albedo", "albedo", "albedo_quadrature", "white_furnace",

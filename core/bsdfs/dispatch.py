@@ -36,8 +36,8 @@ from ..jit import function, inline
 from .common import zero
 from .ggx import ggx_conductor_eval, ggx_reflect_sample_dir, ggx_dielectric_eval, ggx_dielectric_sample_dir
 from .lafortune import lobes_eval, lobes_sample_dir
-from .params import (BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE, BSDF_GLOSSY, BSDF_REFLECTION, BSDF_TRANSMISSION,
-                     P_TWO_SIDED)
+from .params import (
+    BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE, BSDF_GLOSSY, BSDF_REFLECTION, BSDF_TRANSMISSION, P_TWO_SIDED)
 from .plastic import plastic_eval, plastic_sample_dir
 from .phong import blinn_eval, blinn_sample_dir, lambert_eval, lambert_sample_dir
 from .specular import conductor_sample, dielectric_sample, mirror_sample

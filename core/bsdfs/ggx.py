@@ -38,8 +38,9 @@ from ..jit import function, inline
 from .common import all_equal, clamp01, half_vector, reflect, reflect_glossy, zero
 from .fresnel import fresnel_conductor, fresnel_dielectric, mean_fresnel_dielectric, refract_cos
 from .microfacet import ggx_d, ggx_g1, ggx_g2, ggx_vndf_pdf, sample_ggx_vndf
-from .params import (ALPHA_MIN, BSDF_DELTA, BSDF_DISPERSIVE, BSDF_GLOSSY, BSDF_REFLECTION, BSDF_TRANSMISSION,
-                     P_ALPHA_X, P_ALPHA_Y)
+from .params import (
+    ALPHA_MIN, BSDF_DELTA, BSDF_DISPERSIVE, BSDF_GLOSSY, BSDF_REFLECTION, BSDF_TRANSMISSION, P_ALPHA_X,
+    P_ALPHA_Y)
 
 ETA_ONE_TOL = 1e-6
 

@@ -40,8 +40,9 @@ from ..jit import function, inline
 from ..sampling.lobes import sample_offnormal_cosn
 from ..sampling.warps import sample_cosine_hemisphere
 from .common import INV_PI, INV_TWO_PI, lobe_sums, pow_pos
-from .params import (BSDF_DIFFUSE, BSDF_GLOSSY, BSDF_REFLECTION, LAF_MAX_LOBES, P_EXPONENT, P_LAF_A_MAX,
-                     P_LAF_LOBES, P_LAF_N_LOBES)
+from .params import (
+    BSDF_DIFFUSE, BSDF_GLOSSY, BSDF_REFLECTION, LAF_MAX_LOBES, P_EXPONENT, P_LAF_A_MAX, P_LAF_LOBES,
+    P_LAF_N_LOBES)
 
 TWO_PI = 2.0 * math.pi
 

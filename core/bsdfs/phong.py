@@ -21,8 +21,8 @@ import math
 
 from ..jit import function, inline
 from ..sampling.warps import cosn_pdf, sample_cosine_hemisphere, sample_cosn
-from .common import (INV_PI, clamp01, diffuse_glossy_pdf, glossy_prob, half_vector, lobe_sums, pow_pos,
-                     reflect_glossy)
+from .common import (
+    INV_PI, clamp01, diffuse_glossy_pdf, glossy_prob, half_vector, lobe_sums, pow_pos, reflect_glossy)
 from .params import BSDF_DIFFUSE, BSDF_REFLECTION, P_EXPONENT
 
 

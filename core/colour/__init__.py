@@ -4,81 +4,24 @@ Names and conventions follow colour-science (which is only the tests' oracle: no
 here imports it, since Blender's Python does not ship it). numpy only; every function
 is vectorised over any leading shape. Compendium items 63, 64, 66, 67, 68.
 
-Photometric integrals (K_m ∫ V Φ dλ, items 31–36) live in ``core.photometry``; their
-public names are re-exported here lazily (``core.photometry`` imports this package, so an
-eager import would be circular).
+Photometric integrals (K_m ∫ V Φ dλ, items 31–36) live in ``core.photometry``.
 """
-from .adaptation import (  # noqa: F401
-    CAT_BRADFORD,
-    chromatic_adaptation_Bradford,
-    matrix_chromatic_adaptation_Bradford,
-)
+from .adaptation import CAT_BRADFORD, chromatic_adaptation_Bradford, matrix_chromatic_adaptation_Bradford
 from .difference import delta_E_CIE1976, delta_E_CIE2000  # noqa: F401
 from .illuminants import CCS_ACES, CCS_C, CCS_D65, CCS_ILLUMINANTS  # noqa: F401
-from .models import (  # noqa: F401
-    CIE_E,
-    CIE_K,
-    Lab_to_LCHab,
-    Lab_to_XYZ,
-    Luv_to_uv,
-    Luv_to_XYZ,
-    Luv_uv_to_xy,
-    UCS_to_uv,
-    UCS_to_XYZ,
-    UCS_uv_to_xy,
-    XYZ_to_Lab,
-    XYZ_to_Luv,
-    XYZ_to_Luv_uv,
-    XYZ_to_UCS,
-    XYZ_to_xy,
-    XYZ_to_xyY,
-    intermediate_lightness_function_CIE1976,
-    intermediate_luminance_function_CIE1976,
-    lightness_CIE1976,
-    luminance_CIE1976,
-    uv_to_Luv,
-    xy_to_Luv_uv,
-    xy_to_UCS_uv,
-    xy_to_XYZ,
-    xy_to_xyY,
-    xyY_to_xy,
-    xyY_to_XYZ,
-)
-from .rgb import (  # noqa: F401
-    MATRIX_ACESCG_TO_XYZ,
-    MATRIX_NTSC1953_TO_XYZ,
-    MATRIX_NTSC_D6500_TO_XYZ_COMPENDIUM,
-    MATRIX_REC709_TO_XYZ,
-    MATRIX_XYZ_TO_ACESCG,
-    MATRIX_XYZ_TO_NTSC1953,
-    MATRIX_XYZ_TO_NTSC_D6500_COMPENDIUM,
-    MATRIX_XYZ_TO_REC709,
-    PRIMARIES_AP1,
-    PRIMARIES_BT709,
-    PRIMARIES_NTSC1953,
-    RGB_COLOURSPACES,
-    RGB_Colourspace,
-    ACEScg_to_XYZ,
-    NTSC1953_to_XYZ,
-    RGB_to_XYZ,
-    RGB_to_XYZ_matrix,
-    XYZ_to_ACEScg,
-    XYZ_to_NTSC1953,
-    XYZ_to_RGB,
-    XYZ_to_sRGB_linear,
-    luminance_rec709,
-    normalised_primary_matrix,
-    sRGB_decode,
-    sRGB_encode,
-    sRGB_linear_to_XYZ,
-)
-from .tristimulus import (  # noqa: F401
-    align_spectrum,
-    cmfs,
-    interpolate_cubic_spline,
-    interpolate_sprague,
-    sd_to_XYZ,
-)
+from .models import (
+    CIE_E, CIE_K, Lab_to_LCHab, Lab_to_XYZ, Luv_to_uv, Luv_to_XYZ, Luv_uv_to_xy, UCS_to_uv, UCS_to_XYZ,
+    UCS_uv_to_xy, XYZ_to_Lab, XYZ_to_Luv, XYZ_to_Luv_uv, XYZ_to_UCS, XYZ_to_xy, XYZ_to_xyY,
+    intermediate_lightness_function_CIE1976, intermediate_luminance_function_CIE1976, lightness_CIE1976,
+    luminance_CIE1976, uv_to_Luv, xy_to_Luv_uv, xy_to_UCS_uv, xy_to_XYZ, xy_to_xyY, xyY_to_xy, xyY_to_XYZ)
+from .rgb import (
+    MATRIX_ACESCG_TO_XYZ, MATRIX_NTSC1953_TO_XYZ, MATRIX_NTSC_D6500_TO_XYZ_COMPENDIUM, MATRIX_REC709_TO_XYZ,
+    MATRIX_XYZ_TO_ACESCG, MATRIX_XYZ_TO_NTSC1953, MATRIX_XYZ_TO_NTSC_D6500_COMPENDIUM, MATRIX_XYZ_TO_REC709,
+    PRIMARIES_AP1, PRIMARIES_BT709, PRIMARIES_NTSC1953, RGB_COLOURSPACES, RGB_Colourspace, ACEScg_to_XYZ,
+    NTSC1953_to_XYZ, RGB_to_XYZ, RGB_to_XYZ_matrix, XYZ_to_ACEScg, XYZ_to_NTSC1953, XYZ_to_RGB,
+    XYZ_to_sRGB_linear, luminance_rec709, normalised_primary_matrix, sRGB_decode, sRGB_encode,
+    sRGB_linear_to_XYZ)
+from .tristimulus import align_spectrum, cmfs, interpolate_cubic_spline, interpolate_sprague, sd_to_XYZ
 
 __all__ = [
     # tristimulus values (item 63)
@@ -109,23 +52,3 @@ __all__ = [
     # colour differences
     "delta_E_CIE1976", "delta_E_CIE2000",
 ]
-
-_PHOTOMETRY_NAMES = (
-    "K_CD", "K_M_CIE2019", "LAMBDA_KCD_AIR_NM", "LAMBDA_KCD_VACUUM_NM", "UNITS",
-    "luminous_efficiency_function", "radiant_quantity",
-    "luminous_flux", "luminous_energy", "luminous_intensity", "illuminance", "luminous_exitance",
-    "luminance", "luminous_efficiency", "luminous_efficacy", "luminous_flux_monochromatic",
-    "radiometric_scale_for",
-    "isotropic_flux_to_intensity", "isotropic_intensity_to_flux",
-    "lambertian_exitance_to_radiance", "lambertian_radiance_to_exitance", "point_source_illuminance",
-    "lux_to_footcandle", "footcandle_to_lux", "nit_to_footlambert", "footlambert_to_nit",
-)
-__all__ += list(_PHOTOMETRY_NAMES)
-
-
-def __getattr__(name):
-    if name in _PHOTOMETRY_NAMES:
-        from .. import photometry
-
-        return getattr(photometry, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -30,7 +30,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from .. import presets
+from ..io import presets
 from ._common import as_float
 
 # --------------------------------------------------------------------------- interpolation

@@ -33,23 +33,3 @@ def to_srgb8(linear_rgb, exposure=0.0):
 
 def write_png(path, linear_rgb, exposure=0.0):
     write_bytes(path, encode_png(to_srgb8(linear_rgb, exposure)))
-
-
-def read_png_rgb8(path):
-    """Read back a PNG written by :func:`encode_png` (8-bit RGB, filter 0 only). For tests."""
-    data = open(path, "rb").read()
-    assert data[:8] == b"\x89PNG\r\n\x1a\n"
-    pos = 8
-    idat = b""
-    w = h = 0
-    while pos < len(data):
-        (n,) = struct.unpack(">I", data[pos:pos + 4])
-        tag = data[pos + 4:pos + 8]
-        body = data[pos + 8:pos + 8 + n]
-        if tag == b"IHDR":
-            w, h = struct.unpack(">II", body[:8])
-        elif tag == b"IDAT":
-            idat += body
-        pos += 12 + n
-    raw = np.frombuffer(zlib.decompress(idat), np.uint8).reshape(h, 1 + 3 * w)
-    return raw[:, 1:].reshape(h, w, 3)

@@ -22,18 +22,19 @@ from numba import prange
 
 from ..jit import inline, kernel
 from . import tags as T
-from .distrib import (distribution_1d_pdf, distribution_2d_pdf, invert_distribution_1d, invert_distribution_2d,
-                      sample_distribution_1d, sample_distribution_2d)
+from .distrib import (
+    distribution_1d_pdf, distribution_2d_pdf, invert_distribution_1d, invert_distribution_2d,
+    sample_distribution_1d, sample_distribution_2d)
 from .lobes import offnormal_cosn_pdf, sample_offnormal_cosn
 from .qmc import qmc_sample
 from .sphtri import invert_spherical_triangle, sample_spherical_triangle, spherical_triangle_pdf
-from .warps import (cosine_cone_pdf, cosine_hemisphere_pdf, cosn_cone_pdf, cosn_pdf, disk_pdf,
-                    invert_cosine_cone, invert_cosine_hemisphere, invert_cosn, invert_cosn_cone,
-                    invert_disk_concentric, invert_disk_polar, invert_triangle_area, invert_uniform_cone,
-                    invert_uniform_hemisphere, invert_uniform_sphere, sample_cosine_cone, sample_cosine_hemisphere,
-                    sample_cosn, sample_cosn_cone, sample_disk_concentric, sample_disk_polar, sample_triangle_area,
-                    sample_uniform_cone, sample_uniform_hemisphere, sample_uniform_sphere, uniform_cone_pdf,
-                    uniform_hemisphere_pdf, uniform_sphere_pdf)
+from .warps import (
+    cosine_cone_pdf, cosine_hemisphere_pdf, cosn_cone_pdf, cosn_pdf, disk_pdf, invert_cosine_cone,
+    invert_cosine_hemisphere, invert_cosn, invert_cosn_cone, invert_disk_concentric, invert_disk_polar,
+    invert_triangle_area, invert_uniform_cone, invert_uniform_hemisphere, invert_uniform_sphere,
+    sample_cosine_cone, sample_cosine_hemisphere, sample_cosn, sample_cosn_cone, sample_disk_concentric,
+    sample_disk_polar, sample_triangle_area, sample_uniform_cone, sample_uniform_hemisphere,
+    sample_uniform_sphere, uniform_cone_pdf, uniform_hemisphere_pdf, uniform_sphere_pdf)
 
 try:  # the per-sample dispatchers are compiled once as functions of their own (core/jit.py)
     from ..jit import function

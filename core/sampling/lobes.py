@@ -40,7 +40,7 @@ import math
 import numpy as np
 
 from ..jit import inline
-from ..kernels.rng import mix64, uniform
+from .rng import mix64, uniform
 from .frame import frame_from_z, normalize, to_world
 from .warps import sample_cosn
 

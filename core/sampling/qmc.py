@@ -25,7 +25,7 @@ Dimensions beyond the prime table fall back to independent random numbers.
 import numpy as np
 
 from ..jit import inline
-from ..kernels.rng import mix64, uniform
+from .rng import mix64, uniform
 from .tags import RANDOMIZE_CP, RANDOMIZE_OWEN, SAMPLER_HALTON, SAMPLER_HAMMERSLEY
 
 

@@ -18,9 +18,9 @@ import functools
 import numpy as np
 
 from .. import constants as C
-from .. import presets
-from ..colour import MATRIX_REC709_TO_XYZ
-from . import moments
+from ..io import presets
+from ..colour import MATRIX_REC709_TO_XYZ, MATRIX_XYZ_TO_REC709
+from . import basis, moments
 
 GLASSNER_RANGE = (380.0, 780.0)
 
@@ -98,9 +98,6 @@ def reflectance_from_XYZ(XYZ, n_coeffs=C.N_COEFFS_DEFAULT, method="Peters 2019",
     closest the iteration gets. method "Glassner 1989": item 65's Fourier spectrum,
     clipped to [0, 1] and projected onto the moments (colour then only approximate).
     """
-    from ..colour import MATRIX_XYZ_TO_REC709
-    from . import uplift  # noqa: F811
-
     target = np.asarray(XYZ, dtype=np.float64)
     if target.shape != (3,) or not np.all(np.isfinite(target)):
         raise ValueError(f"expected a finite XYZ triple, got {XYZ!r}")
@@ -115,7 +112,7 @@ def reflectance_from_XYZ(XYZ, n_coeffs=C.N_COEFFS_DEFAULT, method="Peters 2019",
     if method != "Peters 2019":
         raise ValueError(f"unknown method {method!r}; use 'Peters 2019' or 'Glassner 1989'")
     rgb = np.clip(MATRIX_XYZ_TO_REC709 @ target, 0.0, 1.0)
-    c = uplift.reflectance_from_rgb(rgb, n_coeffs, exact=False)
+    c = basis.reflectance(rgb, n_coeffs)
     if target[1] <= 0.0 or c[0] <= 1e-6:
         return c
     return _gauss_newton(c, target, reflectance_XYZ, lambda t: _valid(t) and 0.0 < t[0] < 1.0,
@@ -157,9 +154,7 @@ def emission_XYZ(coeffs, observer="1931"):
 def emission_shape_from_rgb_exact(rgb, n_coeffs=C.N_COEFFS_DEFAULT):
     """Unbounded coefficients of an emission shape whose chromaticity is that of linear
     Rec.709 ``rgb``: the D65-weighted uplift, corrected like ``reflectance_from_XYZ``."""
-    from . import uplift
-
-    c = uplift.emission_from_rgb(rgb, n_coeffs, exact=False)
+    c = basis.emission_shape(rgb, n_coeffs)
     a = np.maximum(np.asarray(rgb, dtype=np.float64).reshape(3), 0.0)
     if a.max() <= 0.0:
         a = np.ones(3)

@@ -1,7 +1,7 @@
 """Built-in spectra: blackbody, CIE illuminants, ColorChecker, metals and glasses.
 
 NumPy only (no colour-science at run time): the tabulated data come from the
-files in ``presets/`` through :mod:`spectral_gi.core.presets`, and everything
+files in ``presets/`` through :mod:`spectral_gi.core.io.presets`, and everything
 here is a pure function of a name and an array of wavelengths in nanometres.
 
 Wavelength arguments may have any shape and any order (they need not be sorted
@@ -24,7 +24,7 @@ import re
 
 import numpy as np
 
-from .. import presets
+from ..io import presets
 
 # --------------------------------------------------------------------------- constants
 

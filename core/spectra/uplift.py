@@ -5,29 +5,11 @@ within [0, 1] for colours in the unit cube and sums to a flat 1 for white; its m
 are linear in the colour. Emission colours: the same reflectance times CIE D65, so a
 white emitter has D65's shape and renders as RGB (1, 1, 1).
 """
-import functools
-
 import numpy as np
 
 from .. import constants as C
-from .. import presets
-from . import moments
-
-
-@functools.lru_cache(maxsize=None)
-def _basis_moments(n_coeffs, emission):
-    wl, basis = presets.mallett2019_basis()
-    if emission:
-        dwl, d65 = presets.illuminant("D65")
-        basis = basis * np.interp(wl, dwl, d65)[:, None] / 100.0
-    return moments.moments_from_samples(wl, basis, n_coeffs).T.copy()  # (n, 3)
-
-
-def _rgb(rgb):
-    a = np.asarray(rgb, dtype=np.float64).reshape(-1)[:3]
-    if a.size != 3 or not np.all(np.isfinite(a)):
-        raise ValueError(f"expected a finite RGB triple, got {rgb!r}")
-    return a
+from ..colour import XYZ_to_sRGB_linear, luminance_rec709
+from . import basis, fit, moments
 
 
 def reflectance_from_rgb(rgb, n_coeffs=C.N_COEFFS_DEFAULT, exact=True):
@@ -37,11 +19,9 @@ def reflectance_from_rgb(rgb, n_coeffs=C.N_COEFFS_DEFAULT, exact=True):
     reproduced (round trip ΔE00 < 0.01; about 30 ms). exact=False (textures): the
     projection of the Mallett–Yuksel spectrum alone (ΔE00 ≈ 0.06 on average).
     """
-    a = np.clip(_rgb(rgb), 0.0, 1.0)
     if exact:
-        from .fit import reflectance_from_rgb_exact
-        return reflectance_from_rgb_exact(a, n_coeffs)
-    return _basis_moments(n_coeffs, False) @ a
+        return fit.reflectance_from_rgb_exact(np.clip(basis.rgb_triple(rgb), 0.0, 1.0), n_coeffs)
+    return basis.reflectance(rgb, n_coeffs)
 
 
 def emission_from_rgb(rgb, n_coeffs=C.N_COEFFS_DEFAULT, exact=True):
@@ -49,15 +29,9 @@ def emission_from_rgb(rgb, n_coeffs=C.N_COEFFS_DEFAULT, exact=True):
 
     exact=True corrects the moments so the chromaticity is reproduced exactly.
     """
-    a = np.maximum(_rgb(rgb), 0.0)
     if exact:
-        from .fit import emission_shape_from_rgb_exact
-        return emission_shape_from_rgb_exact(a, n_coeffs)
-    peak = a.max()
-    if peak <= 0.0:
-        a = np.ones(3)
-        peak = 1.0
-    return _basis_moments(n_coeffs, True) @ (a / peak)
+        return fit.emission_shape_from_rgb_exact(np.maximum(basis.rgb_triple(rgb), 0.0), n_coeffs)
+    return basis.emission_shape(rgb, n_coeffs)
 
 
 def reflectance_from_samples(wavelengths, values, n_coeffs=C.N_COEFFS_DEFAULT):
@@ -82,9 +56,7 @@ def reflectance_to_rgb(coeffs):
 
     The colour a Cycles material needs to look like this spectrum under a white light.
     """
-    from ..colour import XYZ_to_sRGB_linear
-    from .fit import reflectance_XYZ
-    return XYZ_to_sRGB_linear(reflectance_XYZ(np.asarray(coeffs, np.float64)))
+    return XYZ_to_sRGB_linear(fit.reflectance_XYZ(np.asarray(coeffs, np.float64)))
 
 
 def emission_to_rgb(coeffs, luminance):
@@ -94,13 +66,10 @@ def emission_to_rgb(coeffs, luminance):
     Y(rgb) = 1 (negative components, outside the Rec.709 gamut, are clipped);
     ``strength`` = luminance / 683, so strength · rgb is Blender's radiance for it.
     """
-    from ..colour import XYZ_to_sRGB_linear
-    from .fit import emission_XYZ
-    XYZ = emission_XYZ(np.asarray(coeffs, np.float64))
+    XYZ = fit.emission_XYZ(np.asarray(coeffs, np.float64))
     if not XYZ[1] > 0:
         return np.ones(3), 0.0
     rgb = np.maximum(XYZ_to_sRGB_linear(XYZ / XYZ[1]), 0.0)
-    from ..colour import luminance_rec709
     rgb = rgb / luminance_rec709(rgb)
     return rgb, float(luminance) / C.K_M
 
@@ -115,4 +84,4 @@ def reflectance_from_rgb_array(rgb, n_coeffs=C.N_COEFFS_DEFAULT):
     if a.shape[-1] != 3:
         raise ValueError(f"expected an (..., 3) RGB array, got shape {a.shape}")
     a = np.clip(np.nan_to_num(a, nan=0.0, posinf=1.0, neginf=0.0), 0.0, 1.0)
-    return a @ _basis_moments(n_coeffs, False).T
+    return a @ basis.basis_moments(n_coeffs, False).T

@@ -1,9 +1,9 @@
-"""Issue #6 coverage: the export of object and node types not covered elsewhere, each scene built in bpy.
+"""Export coverage: the object and node types not covered elsewhere, each scene built in bpy.
 
 Curves, text and metaballs as evaluated meshes; a subdivision modifier; geometry-nodes instances;
 hide-render; mixed flat/smooth faces; Value, RGB and Blackbody nodes; square and ellipse area
-lights. Export only (no renders). The table in the module's last comment maps every type listed in
-issue #6 to the test that covers it.
+lights. Export only (no renders). The table in the module's last comment maps every supported
+object, material, light and world type to the test that covers it.
 """
 import importlib
 import math
@@ -457,7 +457,7 @@ def test_square_and_ellipse_area_lights(ext, bpy):
     np.testing.assert_allclose(ov.position, (2, 0, 3), atol=1e-6)
 
 
-# ----------------------------------------------------------------------------- issue #6 coverage map
+# ----------------------------------------------------------------------------- export coverage map
 #
 # objects: meshes (test_addon_export::test_world_matrix_is_applied), curves
 # (test_bevelled_curve_is_a_tube_of_its_bevel_radius), text (test_extruded_text_is_a_closed_slab),

@@ -1,5 +1,4 @@
 """Illuminance sensors, holdout and transparent film through the add-on (real bpy, F12)."""
-import math
 
 import numpy as np
 import pytest

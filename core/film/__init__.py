@@ -1,0 +1,274 @@
+"""The film: per-pixel sums of CIE XYZ, and its development into images.
+
+The kernel adds, per sample, X, Y, Z (∫ L x̄ dλ etc., with L in W/(m² sr nm), so Y
+times K_m is luminance in cd/m²), the sample count, and Y² for the variance estimate.
+Development is NumPy, not kernels.
+
+Observer: X, Y, Z use the colour-matching functions of the render's observer (CIE 1931
+2°, the default, or CIE 1964 10°). Photometric quantities always use V(λ) = the 1931 ȳ:
+with the 1964 observer the film has a sixth channel, the photometric Y (V-weighted), and
+channel 4 holds its square (so luminance, its variance and the noise target do not depend
+on the observer). With the 1931 observer channel 1 is both, and the film keeps 5 channels.
+
+Colour output (``develop(colour_space=...)``): ``rec709`` (linear Rec.709, Blender's
+scene-linear), ``acescg`` (ACES AP1 linear, ACES S-2014-004; D65-referred XYZ is adapted
+to the ACES white with Bradford), ``xyz`` (the film's CIE XYZ unchanged).
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import constants as C
+from ..colour import XYZ_to_Lab, XYZ_to_Luv, XYZ_to_sRGB_linear, XYZ_to_xyY, chromatic_adaptation_Bradford
+
+D65_XY = (0.3127, 0.3290)
+
+# Colour outputs and observers (RenderSettings.colour_space / .observer).
+COLOUR_SPACES = ("rec709", "acescg", "xyz")
+OBSERVERS = ("1931", "1964")
+PHOTOMETRIC_Y = 5  # film channel of the photometric Y when the observer is not CIE 1931
+# OpenEXR ``chromaticities`` of each output: the CIE xy of the pixel values (1,0,0), (0,1,0),
+# (0,0,1) and (1,1,1) (ImfChromaticities.h). ACEScg: AP1 and the ACES white (ACES
+# S-2014-004); XYZ data: X=1 → (1, 0), Y=1 → (0, 1), Z=1 → (0, 0), X=Y=Z → (1/3, 1/3).
+CHROMATICITIES = {
+    "rec709": (0.64, 0.33, 0.30, 0.60, 0.15, 0.06, 0.3127, 0.3290),
+    "acescg": (0.713, 0.293, 0.165, 0.830, 0.128, 0.044, 0.32168, 0.33767),
+    "xyz": (1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0 / 3.0, 1.0 / 3.0),
+}
+
+
+def check_colour_space(colour_space):
+    """The normalised name of an output colour space; ValueError naming the choices otherwise."""
+    cs = str(colour_space).strip().lower()
+    if cs not in COLOUR_SPACES:
+        raise ValueError(f"colour space {colour_space!r}: expected one of {', '.join(COLOUR_SPACES)}")
+    return cs
+
+
+def check_observer(observer):
+    """'1931' or '1964' (also accepts 2/10 and the colour-science names); ValueError otherwise."""
+    o = str(observer).strip().lower()
+    if o in ("1931", "2", "cie 1931 2 degree standard observer"):
+        return "1931"
+    if o in ("1964", "10", "cie 1964 10 degree standard observer"):
+        return "1964"
+    raise ValueError(f"observer {observer!r}: expected '1931' (CIE 1931 2°) or '1964' (CIE 1964 10°)")
+
+
+def film_channels(observer="1931"):
+    """Channels of a film for ``observer``: 5, plus the photometric Y for the 10° observer."""
+    return C.FILM_CHANNELS + (0 if check_observer(observer) == "1931" else 1)
+
+
+def photometric_y_sums(sums):
+    """Per-pixel sums of the photometric (V(λ)-weighted) Y: channel 5 if present, else Y."""
+    return sums[..., PHOTOMETRIC_Y] if sums.shape[-1] > PHOTOMETRIC_Y else sums[..., 1]
+
+
+def d65_white_xy(observer="1931"):
+    """xy of CIE D65 for ``observer`` (CIE 015:2018; 1931: the rounded (0.3127, 0.3290))."""
+    from ..colour.illuminants import CCS_ILLUMINANTS
+
+    return tuple(float(v) for v in CCS_ILLUMINANTS[check_observer(observer)]["D65"])
+
+
+def _xy_to_XYZ(xy):
+    return np.array([xy[0] / xy[1], 1.0, (1 - xy[0] - xy[1]) / xy[1]])
+
+
+def XYZ_to_output(XYZ, colour_space="rec709", observer="1931"):
+    """The film's XYZ (D65-referred, ``observer``) in an output colour space (see the module doc).
+
+    rec709 and acescg are defined on CIE 1931 XYZ: 10° XYZ is first adapted (Bradford) from
+    the 10° D65 white to the 2° one, so that a D65-white surface stays neutral (a convention:
+    no matrix maps one observer's XYZ to the other's exactly). xyz returns XYZ unchanged.
+    """
+    from ..colour import XYZ_to_RGB
+
+    cs = check_colour_space(colour_space)
+    if cs == "xyz":
+        return np.array(XYZ, dtype=np.float64, copy=True)
+    if check_observer(observer) != "1931":
+        XYZ = chromatic_adaptation_Bradford(XYZ, _xy_to_XYZ(d65_white_xy(observer)), _xy_to_XYZ(D65_XY))
+    if cs == "rec709":
+        return XYZ_to_sRGB_linear(XYZ)
+    return XYZ_to_RGB(XYZ, "ACEScg", illuminant=np.array(D65_XY), chromatic_adaptation_transform="Bradford")
+
+
+AOV_CHANNELS = 9  # albedo XYZ, normal xyz, depth sum, number of samples that hit, transparent samples
+FILM_FORMAT = "spectral-gi-film"
+FILM_VERSION = 2  # 2: the AOVs gained the transparent-sample count (version 1 films load as opaque)
+
+
+class Film:
+    """Per-pixel sums. ``spectral_bins`` > 0 also keeps the spectral radiance in that many
+    equal bins of [LAMBDA_MIN, LAMBDA_MAX] (for spectral OpenEXR output). ``aov`` holds
+    the sums of the albedo, normal and depth passes (see :func:`develop`)."""
+
+    def __init__(self, width, height, spectral_bins=0, observer="1931"):
+        self.width = int(width)
+        self.height = int(height)
+        self.observer = check_observer(observer)
+        self.sums = np.zeros((self.height, self.width, film_channels(self.observer)), dtype=np.float64)
+        n = int(spectral_bins)
+        self.spectral = np.zeros((self.height, self.width, n) if n > 0 else (1, 1, 0), dtype=np.float64)
+        self.aov = np.zeros((self.height, self.width, AOV_CHANNELS), dtype=np.float64)
+        self.spp = 0
+
+    @property
+    def spectral_bins(self):
+        return self.spectral.shape[2]
+
+    def bin_centres(self):
+        """Centre wavelength (nm) of each spectral bin."""
+        n = self.spectral_bins
+        w = (C.LAMBDA_MAX - C.LAMBDA_MIN) / max(n, 1)
+        return C.LAMBDA_MIN + w * (np.arange(n) + 0.5)
+
+    def spectral_radiance(self):
+        """(H, W, B) mean spectral radiance per bin, W/(m² sr nm)."""
+        n = np.maximum(self.sums[..., 3], 1.0)
+        return self.spectral / n[..., None]
+
+    def copy(self):
+        f = Film(self.width, self.height, observer=self.observer)
+        f.sums = self.sums.copy()
+        f.spectral = self.spectral.copy()
+        f.aov = self.aov.copy()
+        f.spp = self.spp
+        return f
+
+    def develop(self, white_luminance=C.K_M, white_balance=None, colour_space="rec709"):
+        return develop(self.sums, white_luminance, white_balance, aov=self.aov, colour_space=colour_space,
+                       observer=self.observer)
+
+    def save(self, path):
+        """Write the film (a checkpoint to resume from) as one .npz, atomically."""
+        import io
+        from pathlib import Path
+
+        from ..io.atomic import write_bytes
+
+        buf = io.BytesIO()
+        np.savez_compressed(buf, format=np.array(FILM_FORMAT), version=np.array(FILM_VERSION),
+                            spp=np.array(self.spp, np.int64), observer=np.array(self.observer), sums=self.sums,
+                            spectral=self.spectral, aov=self.aov)
+        write_bytes(Path(path), buf.getvalue())
+        return Path(path)
+
+    @classmethod
+    def load(cls, path):
+        """Read a film written by :meth:`save`; ValueError naming the problem otherwise."""
+        try:
+            with np.load(path, allow_pickle=False) as z:
+                data = {k: z[k] for k in z.files}
+        except Exception as e:  # OSError, zipfile.BadZipFile, ValueError
+            raise ValueError(f"film {path}: cannot read ({e})") from None
+        version = int(data.get("version", -1))
+        if str(data.get("format", "")) != FILM_FORMAT or version not in (1, FILM_VERSION):
+            raise ValueError(f"film {path}: not a spectral-gi film of version 1 or {FILM_VERSION}")
+        sums, spectral, aov = data["sums"], data["spectral"], data["aov"]
+        if version == 1 and aov.ndim == 3 and aov.shape[2] == AOV_CHANNELS - 1:
+            aov = np.concatenate([aov, np.zeros(aov.shape[:2] + (1,))], axis=2)  # no transparent samples
+        try:  # films written before the observer setting are CIE 1931
+            observer = check_observer(str(data.get("observer", "1931")))
+        except ValueError as e:
+            raise ValueError(f"film {path}: {e}") from None
+        if sums.ndim != 3 or sums.shape[2] != film_channels(observer) or \
+                aov.shape != sums.shape[:2] + (AOV_CHANNELS,):
+            raise ValueError(f"film {path}: unexpected array shapes {sums.shape}, {aov.shape}")
+        f = cls(sums.shape[1], sums.shape[0], observer=observer)
+        f.sums = np.ascontiguousarray(sums, np.float64)
+        f.spectral = np.ascontiguousarray(spectral, np.float64)
+        f.aov = np.ascontiguousarray(aov, np.float64)
+        f.spp = int(data["spp"])
+        return f
+
+
+@dataclass
+class Developed:
+    XYZ: np.ndarray  # (H, W, 3) mean CIE XYZ per pixel; Y = 1 is 683 cd/m²
+    rgb: np.ndarray  # (H, W, 3) linear Rec.709 (Blender's scene-linear), same scale as XYZ
+    luminance: np.ndarray  # (H, W) cd/m²
+    variance: np.ndarray  # (H, W) variance of the pixel's mean luminance, (cd/m²)²
+    count: np.ndarray  # (H, W) samples per pixel
+    xyY: np.ndarray = None  # (H, W, 3) chromaticity x, y and luminance Y in cd/m²
+    Lab: np.ndarray = None  # (H, W, 3) CIE L*a*b* against the reference white below
+    Luv: np.ndarray = None  # (H, W, 3) CIE L*u*v* against the reference white below
+    white_luminance: float = C.K_M  # cd/m² of the reference white (L* = 100)
+    white_xy: tuple = D65_XY  # chromaticity of the reference white
+    albedo: np.ndarray = None  # (H, W, 3) linear Rec.709 reflectance of the first non-delta hit (under D65)
+    normal: np.ndarray = None  # (H, W, 3) mean world shading normal of the first hit, facing the camera
+    depth: np.ndarray = None  # (H, W) mean camera-ray distance to the first hit (m), inf where nothing was hit
+    # (H, W) film alpha: the fraction of samples not left transparent (holdout, transparent film)
+    alpha: np.ndarray = None
+    output: np.ndarray = None  # (H, W, 3) the image in ``colour_space`` (white-balanced as rgb, except xyz)
+    colour_space: str = "rec709"  # 'rec709', 'acescg' or 'xyz' (see core.film)
+    observer: str = "1931"  # CIE observer of XYZ (and of xyY, Lab, Luv): '1931' (2°) or '1964' (10°)
+
+
+def develop(sums, white_luminance=C.K_M, white_balance=None, aov=None, colour_space="rec709", observer=None):
+    """Turn film sums into images.
+
+    white_luminance: luminance (cd/m²) of the white that L* = 100 refers to; the default
+    683 cd/m² is Blender's RGB (1, 1, 1). The reference white's chromaticity is D65.
+    white_balance: None, or the xy chromaticity of the scene's light: then ``rgb`` (and
+    only ``rgb``) is adapted from that white to D65 with Bradford's transform, as a
+    camera's white balance would; XYZ, xyY, Lab and Luv stay unadapted.
+    aov: the film's AOV sums (Film.aov); then ``albedo``, ``normal`` (sums over the sample
+    count), ``depth`` (over the samples that hit; inf if none did) and ``alpha`` (1 minus
+    the fraction of samples that saw a holdout or, with a transparent film, nothing; 0
+    where the pixel has no samples) are filled in. ``XYZ``/``rgb`` are then premultiplied
+    by alpha, as Blender's Combined pass: transparent samples carry no radiance.
+    colour_space: 'rec709' (default), 'acescg' or 'xyz': the space of ``output`` (``rgb``
+    is always linear Rec.709, what Blender displays).
+    observer: the film's CIE observer ('1931' or '1964'; None: 1931 for a 5-channel film,
+    1964 for a 6-channel one). XYZ, xyY, Lab and Luv are the observer's, against its D65
+    white; luminance and variance are photometric (V(λ)) whatever the observer.
+    """
+    if observer is None:
+        observer = "1931" if sums.shape[-1] <= PHOTOMETRIC_Y else "1964"
+    observer = check_observer(observer)
+    colour_space = check_colour_space(colour_space)
+    if sums.shape[-1] != film_channels(observer):
+        raise ValueError(f"film sums with {sums.shape[-1]} channels do not match the {observer} observer")
+    white_xy = D65_XY if observer == "1931" else d65_white_xy(observer)
+    n = sums[..., 3]
+    safe = np.maximum(n, 1.0)
+    XYZ = sums[..., :3] / safe[..., None]
+    XYZ[n == 0] = 0.0
+    mean_y = photometric_y_sums(sums) / safe
+    mean_y = np.where(n == 0, 0.0, mean_y)
+    mean_y2 = sums[..., 4] / safe
+    var_sample = np.maximum(mean_y2 - mean_y * mean_y, 0.0) * safe / np.maximum(safe - 1.0, 1.0)
+    variance = (C.K_M ** 2) * var_sample / safe
+    variance[n < 2] = np.inf
+    rgb_xyz = XYZ
+    d65 = _xy_to_XYZ(white_xy)
+    if white_balance is not None:
+        wx, wy = float(white_balance[0]), float(white_balance[1])
+        src = np.array([wx / wy, 1.0, (1 - wx - wy) / wy])
+        rgb_xyz = chromatic_adaptation_Bradford(XYZ, src, d65)
+    scale = C.K_M / float(white_luminance)  # film units → units of the reference white
+    xyY = XYZ_to_xyY(XYZ, illuminant=np.array(white_xy))
+    xyY[..., 2] *= C.K_M
+    albedo = normal = depth = alpha = None
+    if aov is not None:
+        albedo = XYZ_to_output(aov[..., 0:3] / safe[..., None], "rec709", observer)
+        albedo[n == 0] = 0.0
+        normal = aov[..., 3:6] / safe[..., None]
+        hits = aov[..., 7]
+        depth = np.full(hits.shape, np.inf)
+        np.divide(aov[..., 6], hits, out=depth, where=hits > 0)
+        if aov.shape[2] > 8:
+            alpha = np.where(n > 0, 1.0 - aov[..., 8] / safe, 0.0)
+    rgb = XYZ_to_output(rgb_xyz, "rec709", observer)
+    if colour_space == "rec709":
+        output = rgb
+    else:
+        output = XYZ_to_output(XYZ if colour_space == "xyz" else rgb_xyz, colour_space, observer)
+    return Developed(XYZ=XYZ, rgb=rgb, luminance=C.K_M * mean_y,
+                     variance=variance, count=n.copy(), xyY=xyY,
+                     Lab=XYZ_to_Lab(XYZ * scale, np.array(white_xy)), Luv=XYZ_to_Luv(XYZ * scale, np.array(white_xy)),
+                     white_luminance=float(white_luminance), white_xy=white_xy, albedo=albedo, normal=normal,
+                     depth=depth, alpha=alpha, output=output, colour_space=colour_space, observer=observer)

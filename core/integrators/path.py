@@ -1,0 +1,988 @@
+"""The spectral path tracer kernel.
+
+Bounces are counted as in Cycles: ``max_depth`` = 0 renders direct light only, and a
+path may scatter at most ``max_depth + 1`` times.
+
+Per path: N_WAVELENGTHS wavelengths (a hero and equally offset companions in the
+primary sample space of the visible-wavelength density), next-event estimation on
+emitters (emissive triangles and analytic area lights, chosen in proportion to their
+power) combined with cosine-weighted BSDF sampling by the power heuristic (compendium
+items 27–28, 51–52), and Russian roulette. An emissive triangle is sampled uniformly in
+the solid angle it subtends (item 22, Arvo's spherical triangles) when that solid angle is
+in a range given by the render settings (large, near emitters), else by area. Radiance becomes CIE XYZ per sample and is
+summed into the film: X, Y, Z, sample count, Y².
+
+Every random number is a pure function of (seed, pixel, sample, dimension), and each
+pixel's samples are summed in sample order, so the film is bit-identical whatever the
+number of threads or the split of samples into passes.
+"""
+import math
+
+import numpy as np
+from .. import constants as C
+from ..jit import function, inline, kernel
+from ..bsdfs.dispatch import bsdf_eval, bsdf_flags, bsdf_sample
+from ..bsdfs.common import clamp01
+from ..bsdfs.params import (
+    ALPHA_MIN, BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE, BSDF_GLOSSY, BSDF_REFLECTION, P_TWO_SIDED)
+from ..bsdfs.phong import lambert_sample_dir
+from ..media import kernel as media
+from ..textures import kernel as tex
+from ..geometry.bvh import STACK_SIZE, trace_closest, triangle_normal, uidx
+from ..camera.kernel import CAM_LENS_R, camera_ray
+from ..lights.kernel import env_lookup, env_sample, hit_light, sample_light, sun_hit
+from ..sampling.qmc import pixel_seed, qmc_sample
+from ..sampling.sphtri import SMALL_SOLID_ANGLE, sample_spherical_triangle, spherical_triangle_solid_angle
+from ..sampling.tags import RANDOMIZE_OWEN, SAMPLER_INDEPENDENT
+from ..spectra.kernel import lookup
+from ..sampling.rng import path_key, shift_32, sobol_02, sobol_pair, sobol_pair_both, uniform
+
+NW = C.N_WAVELENGTHS
+LMIN = C.LAMBDA_MIN
+LMAX = C.LAMBDA_MAX
+LSTEP = C.LAMBDA_STEP
+NL = C.N_LAMBDA
+INV_PI = 1.0 / math.pi
+
+# Visible-wavelength density p(λ) ∝ sech²(B (λ - λc)) on [LMIN, LMAX]; the constants
+# are those of pbrt-v4's SampleVisibleWavelengths (Pharr, Jakob, Humphreys 2023, §4.6.5),
+# chosen there to follow the CIE Y curve with heavier tails.
+VIS_B = 0.0072
+VIS_C = 538.0
+VIS_TA = math.tanh(VIS_B * (LMIN - VIS_C))
+VIS_TB = math.tanh(VIS_B * (LMAX - VIS_C))
+
+# The stratified sampler's Sobol dimensions: the camera (0-4) and two bounces of light and
+# BSDF samples (5 per bounce without mixes or media: light pick, light pair, BSDF pair).
+STRATIFIED_DIMS = 17
+
+# Ray offset against self-intersection: relative to the scene's coordinate magnitude.
+EPS_REL = 1e-5
+WORK_ROWS = 11  # rows of render_rows' scratch ``work``: λ, pdf(λ), β, L, ρa, ρb, η, κ, f, Le, λ cell fraction
+
+
+
+@function
+def sample_dimension(sampler, index, dim, pseed, n):
+    """Dimension ``dim`` of sample ``index`` of the low-discrepancy samplers, for the pixel
+    with seed ``pseed``: the stratified sampler's pixel-filter pair (dimensions 1, 2) from a
+    digitally shifted Sobol (0, 2) sequence (stratified positions in the pixel: what makes
+    edges of bright emitters converge), its lens pair 3-4 and then pairs 2k, 2k + 1 (so the
+    light and BSDF pairs of the first bounces are aligned) each from its own scrambled and
+    shuffled (0, 2)-sequence; or dimension ``dim`` of an Owen-scrambled Halton or
+    Hammersley set of ``n`` points. Compiled as a function of its own: the path kernel
+    draws a number at some twenty places, and inlined at each of them this code would
+    multiply the kernel's compile time."""
+    if sampler == C.SAMPLER_STRATIFIED:
+        if dim == 1 or dim == 2:
+            return sobol_02(index, dim - 1, shift_32(pseed, dim))
+        if dim == 3 or dim == 4:
+            return sobol_pair(index, dim - 3, pseed, 1)
+        return sobol_pair(index, dim & 1, pseed, dim >> 1)
+    return qmc_sample(sampler, RANDOMIZE_OWEN, index, dim, pseed, n)
+
+
+@inline
+def rnd(sampler, key, pseed, index, dim, n):
+    """The path's sample in dimension ``dim``: the counter RNG for the independent sampler
+    and for the stratified sampler's dimensions past the first two bounces (which carry
+    little of the image's variance), else the low-discrepancy point (whose dimensions past
+    the prime table fall back to a hash of (pixel seed, index, dimension), as pbrt's
+    samplers do). Only the hash is inlined; the rest is one call."""
+    if sampler == SAMPLER_INDEPENDENT or (sampler == C.SAMPLER_STRATIFIED and dim >= STRATIFIED_DIMS):
+        return uniform(key, dim)
+    # np.int64(...): a literal dimension (0 ... 4 at the camera) would otherwise compile
+    # one specialisation per literal value
+    return sample_dimension(sampler, np.int64(index), np.int64(dim), pseed, np.int64(n))
+
+
+@function
+def rnd_f(sampler, key, pseed, index, dim, n):
+    """``rnd`` as a function call: for the draws made once per sample or per medium event,
+    so that only the hot surface draws are inlined into the path kernel (each inlined
+    draw adds to its compile time)."""
+    return rnd(sampler, key, pseed, np.int64(index), np.int64(dim), np.int64(n))
+
+
+@function
+def sample_pair(sampler, index, dim, pseed, n):
+    """Dimensions ``dim`` and ``dim + 1`` of sample ``index`` (the low-discrepancy samplers, as
+    ``sample_dimension``) in one call: for the stratified sampler's aligned pairs (even
+    ``dim`` ≥ 6, one scrambled (0, 2)-sequence per pair) the pair's hash and shuffled index
+    are computed once."""
+    if sampler == C.SAMPLER_STRATIFIED and dim >= 6 and (dim & 1) == 0:
+        return sobol_pair_both(index, pseed, dim >> 1)
+    return sample_dimension(sampler, index, dim, pseed, n), sample_dimension(sampler, index, dim + 1, pseed, n)
+
+
+@inline
+def rnd2(sampler, key, pseed, index, dim, n):
+    """``(rnd(..., dim, n), rnd(..., dim + 1, n))``, the same two values: the hot surface
+    pairs (light sample, BSDF sample) in one sampler call."""
+    if sampler == SAMPLER_INDEPENDENT or (sampler == C.SAMPLER_STRATIFIED and dim >= STRATIFIED_DIMS):
+        return uniform(key, dim), uniform(key, dim + 1)
+    if sampler == C.SAMPLER_STRATIFIED and dim + 1 >= STRATIFIED_DIMS:
+        return sample_dimension(sampler, np.int64(index), np.int64(dim), pseed, np.int64(n)), uniform(key, dim + 1)
+    return sample_pair(sampler, np.int64(index), np.int64(dim), pseed, np.int64(n))
+
+
+@inline
+def sample_visible(u):
+    """A wavelength drawn from p(λ) with the uniform u, and p(λ): with t = tanh(B (λ - λc)),
+    sech² = 1 - t², so the density needs no cosh."""
+    t = VIS_TA + u * (VIS_TB - VIS_TA)
+    # atanh(t) = ½ ln((1 + t) / (1 − t)): one log (|t| < 0.86 here, no cancellation)
+    lam = VIS_C + 0.5 * math.log((1.0 + t) / (1.0 - t)) / VIS_B
+    return min(max(lam, LMIN), LMAX), VIS_B * (1.0 - t * t) / (VIS_TB - VIS_TA)
+
+
+@inline
+def visible_pdf(lam):
+    c = math.cosh(VIS_B * (lam - VIS_C))
+    return VIS_B / ((VIS_TB - VIS_TA) * c * c)
+
+
+@inline
+def lookup_cmf(cmf, k, lam):
+    x = (lam - LMIN) / LSTEP
+    i = int(x)
+    if i < 0 or i >= NL - 1:
+        return 0.0
+    f = x - i
+    c = uidx(i)
+    return cmf[c, k] * (1.0 - f) + cmf[c + uidx(1), k] * f
+
+
+@inline
+def terminate_secondary(pdf_lam):
+    """After a dispersive event only the hero wavelength's path is valid (Wilkie et al.
+    2014): the companions are dropped and the hero's estimate is no longer averaged
+    with theirs."""
+    pdf_lam[0] /= NW
+    for i in range(1, NW):
+        pdf_lam[i] = 0.0
+
+
+@inline
+def power_heuristic(pa, pb):
+    a = pa * pa
+    b = pb * pb
+    if a + b <= 0.0:
+        return 0.0
+    return a / (a + b)
+
+
+@function
+def _sph_triangle(tp, px, py, pz, v0, e1, e2, sph_lo, sph_hi, ua, ub):
+    """The solid-angle branch of emissive-triangle sampling (compendium item 22), compiled
+    once as a function of its own (Arvo's construction inlined at each caller would add to
+    the path kernel's compile time).
+
+    The rule depends on p and the triangle only: with Ω the triangle's solid angle seen
+    from p (Van Oosterom–Strackee), the triangle is sampled uniformly in solid angle when
+    max(sph_lo, SMALL_SOLID_ANGLE) ≤ Ω ≤ sph_hi, else by area. Returns (Ω, wx, wy, wz):
+    Ω = 0 when the rule picks area sampling; the direction is drawn (Arvo 1995) only when
+    ua ≥ 0 (ua < 0: just the rule and Ω, for the MIS weight of a BSDF-sampled hit). The
+    corners are taken relative to p in the same float operations for both uses, so the
+    NEE and the MIS weight see the same Ω."""
+    ax = v0[tp, 0] - px
+    ay = v0[tp, 1] - py
+    az = v0[tp, 2] - pz
+    bx = ax + e1[tp, 0]
+    by = ay + e1[tp, 1]
+    bz = az + e1[tp, 2]
+    cx = ax + e2[tp, 0]
+    cy = ay + e2[tp, 1]
+    cz = az + e2[tp, 2]
+    om = spherical_triangle_solid_angle(ax, ay, az, bx, by, bz, cx, cy, cz)
+    if not (om >= max(sph_lo, SMALL_SOLID_ANGLE) and om <= sph_hi):
+        return 0.0, 0.0, 0.0, 1.0
+    if ua < 0.0:
+        return om, 0.0, 0.0, 1.0
+    wx, wy, wz, pdf = sample_spherical_triangle(ax, ay, az, bx, by, bz, cx, cy, cz, ua, ub)
+    if not (pdf > 0.0):
+        return 0.0, 0.0, 0.0, 1.0
+    return om, wx, wy, wz
+
+
+@inline
+def _triangle_sample(tp, ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale, mat_emis_two, sph_lo,
+                     sph_hi):
+    """A direction towards emissive triangle ``tp`` seen from p: (wx, wy, wz, dist, solid-angle
+    pdf, fac, spectrum row, scale); fac = 0 when the triangle shows p its back (one-sided
+    emitters) or nothing.
+
+    Two strategies, chosen by a rule of (p, triangle) alone (``_sph_triangle``): uniform in
+    the triangle's solid angle Ω when sph_lo ≤ Ω ≤ sph_hi (pdf 1/Ω: no 1/r² nor emitter
+    cosine left in the estimate, which matters for large, near emitters), else a uniform
+    point on its area (pdf r² / (A cos θ_y)). The MIS weight of a BSDF-sampled ray that hits
+    the triangle applies the same rule (render_rows). The emitted radiance is constant over
+    the triangle, so in either measure fac is 1 on the emitting side."""
+    lnx, lny, lnz = triangle_normal(e1, e2, tp)
+    ll = math.sqrt(lnx * lnx + lny * lny + lnz * lnz)
+    lm = tri_mat[tp]
+    # which side of the plane p is on (the same for every point of the triangle)
+    hgt = (px - v0[tp, 0]) * lnx + (py - v0[tp, 1]) * lny + (pz - v0[tp, 2]) * lnz
+    if ll == 0.0 or hgt == 0.0 or (hgt < 0.0 and mat_emis_two[lm] == 0):
+        return 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, mat_emis[lm], 0.0
+    # Ω ≤ A / h² (h: p's distance to the plane): most small, far emitters never call the branch
+    if sph_lo <= sph_hi and ll * ll * ll >= 2.0 * sph_lo * hgt * hgt:
+        om, wx, wy, wz = _sph_triangle(np.int64(tp), px, py, pz, v0, e1, e2, sph_lo, sph_hi, ua, ub)
+        if om > 0.0:
+            # distance to the triangle's plane along w
+            wn = -(wx * lnx + wy * lny + wz * lnz)
+            if hgt * wn <= 0.0:
+                return wx, wy, wz, 0.0, 0.0, 0.0, mat_emis[lm], 0.0
+            return wx, wy, wz, hgt / wn, 1.0 / om, 1.0, mat_emis[lm], mat_emis_scale[lm]
+    su = math.sqrt(ua)
+    b1 = 1.0 - su
+    b2 = ub * su
+    wx = v0[tp, 0] + b1 * e1[tp, 0] + b2 * e2[tp, 0] - px
+    wy = v0[tp, 1] + b1 * e1[tp, 1] + b2 * e2[tp, 1] - py
+    wz = v0[tp, 2] + b1 * e1[tp, 2] + b2 * e2[tp, 2] - pz
+    d2 = wx * wx + wy * wy + wz * wz
+    dist = math.sqrt(d2)
+    if dist == 0.0:
+        return 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, mat_emis[lm], 0.0
+    wx /= dist
+    wy /= dist
+    wz /= dist
+    cos_y = -(lnx * wx + lny * wy + lnz * wz) / ll
+    if cos_y < 0.0 and mat_emis_two[lm] != 0:
+        cos_y = -cos_y
+    if cos_y <= 0.0:
+        return wx, wy, wz, dist, 0.0, 0.0, mat_emis[lm], 0.0
+    return wx, wy, wz, dist, d2 / (0.5 * ll * cos_y), 1.0, mat_emis[lm], mat_emis_scale[lm]
+
+
+@function
+def _emitter_sample(ei, ua, ub, px, py, pz, lam, le, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale, mat_emis_two,
+                    spec, light_kind, light_geo, light_prof, light_spec, light_scale, light_two_sided, emit_tri,
+                    emit_light,
+                    world_img, world_dist, world_par, world_row, sph_lo, sph_hi):
+    """Emitter ``ei`` sampled from p, as the surface NEE does: (wx, wy, wz, dist, solid-angle
+    pdf (inf: delta), fac) and its emitted spectral radiance (or intensity) into ``le``.
+    Used by the surface NEE and at scattering points in media (core/kernels/media.py)."""
+    if emit_tri[ei] >= 0:
+        wx, wy, wz, dist, lpdf, fac, l_row, l_scale = _triangle_sample(
+            emit_tri[ei], ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale, mat_emis_two, sph_lo,
+            sph_hi)
+        for i in range(NW):
+            le[i] = l_scale * lookup(spec, l_row, lam[i])
+    elif emit_light[ei] >= 0:
+        li = emit_light[ei]
+        wx, wy, wz, dist, lpdf, fac = sample_light(light_kind[li], light_geo, light_prof, li, light_two_sided[li] != 0,
+                                                   px, py, pz, ua, ub)
+        for i in range(NW):
+            le[i] = light_scale[li] * lookup(spec, light_spec[li], lam[i])
+    else:  # the world image
+        wx, wy, wz, lpdf, ti, tj = env_sample(world_dist, world_par, ua, ub)
+        dist = np.inf
+        fac = 1.0
+        cr = world_par[2] * world_img[tj, ti, 0]
+        cg = world_par[2] * world_img[tj, ti, 1]
+        cb = world_par[2] * world_img[tj, ti, 2]
+        for i in range(NW):
+            le[i] = (cr * lookup(spec, world_row, lam[i]) + cg * lookup(spec, world_row + 1, lam[i])
+                     + cb * lookup(spec, world_row + 2, lam[i]))
+    return wx, wy, wz, dist, lpdf, fac
+
+
+
+@inline
+def _shadow_tmax(dist, eps, tp, ox, oy, oz, wx, wy, wz, v0, e1, e2):
+    """How far the NEE shadow ray from the offset origin o (the shading point moved eps off
+    its surface) towards a light sample ``dist`` away from the shading point may look for
+    occluders: short of the sample by a relative 1e-4 and eps, and, when the sample lies on
+    emissive triangle ``tp`` (-1: an analytic light or the world), short of that triangle's
+    plane as seen from o. Measured from the shading point alone, a grazing sample's own
+    triangle could come before the cut-off and block it (the plane is nearer to o by about
+    eps / cos along the ray), which lost light from large emitters in large scenes."""
+    if dist == np.inf:
+        return np.inf
+    tmax = dist * (1.0 - 1e-4) - eps
+    if tp >= 0:
+        nx, ny, nz = triangle_normal(e1, e2, tp)
+        den = wx * nx + wy * ny + wz * nz
+        if den != 0.0:
+            tpl = ((v0[tp, 0] - ox) * nx + (v0[tp, 1] - oy) * ny + (v0[tp, 2] - oz) * nz) / den
+            if tpl > 0.0:
+                tmax = min(tmax, tpl * (1.0 - 1e-4))
+    return tmax
+
+
+@inline
+def _lambert_eval(pm, ra, woz, wiz, fv):
+    """bsdf_eval for MAT_LAMBERT, inline (the same arithmetic, so the same bits): the
+    commonest material skips the dispatch's function call."""
+    if not (woz > 0.0):
+        if woz < 0.0 and pm[P_TWO_SIDED] != 0.0:
+            wiz = -wiz
+        else:
+            for i in range(NW):
+                fv[i] = 0.0
+            return 0.0
+    if not (wiz > 0.0):
+        for i in range(NW):
+            fv[i] = 0.0
+        return 0.0
+    for i in range(NW):
+        fv[i] = clamp01(ra[i]) * INV_PI
+    return wiz * INV_PI
+
+
+@inline
+def _lambert_sample(pm, ra, woz, u1, u2, fv):
+    """bsdf_sample for MAT_LAMBERT, inline (same arithmetic as core.bsdfs.dispatch)."""
+    flip = False
+    if not (woz > 0.0):
+        if woz < 0.0 and pm[P_TWO_SIDED] != 0.0:
+            flip = True
+        else:
+            return 0.0, 0.0, 1.0, 0.0, 0
+    x, y, z, fl = lambert_sample_dir(u1, u2)
+    if fl == 0:
+        return 0.0, 0.0, 1.0, 0.0, 0
+    pdf = z * INV_PI
+    if not (pdf > 0.0):
+        return 0.0, 0.0, 1.0, 0.0, 0
+    c = abs(z) / pdf
+    for i in range(NW):
+        fv[i] = clamp01(ra[i]) * INV_PI * c
+    if flip:
+        z = -z
+    return x, y, z, pdf, fl
+
+
+@inline
+def lam_cell(lam):
+    """The 1 nm grid cell and fraction of wavelength ``lam``, clamped as ``lookup`` clamps:
+    a path's wavelengths are fixed, so the path kernel finds them once per path and reads
+    every spectrum with ``at`` (the same values as ``lookup``, without its branches)."""
+    x = (lam - LMIN) / LSTEP
+    i = int(x)
+    if i < 0:
+        return 0, 0.0
+    if i >= NL - 1:
+        return NL - 2, 1.0
+    return i, x - i
+
+
+@inline
+def at(table, row, li, lf):
+    """Row ``row`` (≥ 0) of a (rows, N_LAMBDA) table at the wavelength of cell ``li``, fraction
+    ``lf`` (unsigned indices: no wraparound code)."""
+    r = uidx(row)
+    c = uidx(li)
+    return table[r, c] * (1.0 - lf) + table[r, c + uidx(1)] * lf
+
+
+@inline
+def _lookup_material(m, lc, lf, spec, ior_tab, mat_ra, mat_rb, mat_eta, mat_kappa, mat_ior, ra, rb, eta, kappa):
+    r_a = mat_ra[m]
+    r_b = mat_rb[m]
+    r_e = mat_eta[m]
+    r_k = mat_kappa[m]
+    for i in range(NW):
+        ra[i] = at(spec, r_a, lc[i], lf[i]) if r_a >= 0 else 0.0
+        rb[i] = at(spec, r_b, lc[i], lf[i]) if r_b >= 0 else 1.0
+        eta[i] = at(ior_tab, r_e, lc[i], lf[i]) if r_e >= 0 else mat_ior[m]
+        kappa[i] = at(ior_tab, r_k, lc[i], lf[i]) if r_k >= 0 else 0.0
+
+
+@function
+def _light_hits(sensing, depth, blocked, t_end, t_lo, ox, oy, oz, dx, dy, dz, full_weight, prev_pdf, medium, mw,
+                beta, rad, lc, lf, spec, light_kind, light_geo, light_prof, light_spec, light_scale,
+                light_two_sided, light_visible, emit_prob):
+    """Add the emission of the analytic lights the ray (ox, d) meets before t_end to ``rad``
+    (they are hit for their emission and never occlude, as in Cycles). ``sensing``: a
+    camera ray of the measuring pass (lights unseen); ``blocked``: the ray hit a surface
+    or scattered in a medium (the sun, at infinity, is not reached); ``full_weight``: the
+    previous vertex was a delta event or NEE is off (weight 1, else the power heuristic
+    against the light's NEE pdf; the analytic lights are the last entries of the emitter
+    table)."""
+    n_lights = light_kind.shape[0]
+    n_emit = emit_prob.shape[0]
+    for li in range(n_lights):
+        if depth == 0 and (light_visible[li] == 0 or sensing):
+            continue
+        lk = light_kind[li]
+        if lk == C.LIGHT_SUN:
+            if blocked:
+                continue
+            fac, lpdf = sun_hit(light_geo, li, dx, dy, dz)
+            tl = np.inf
+        else:
+            tl, fac, lpdf = hit_light(lk, light_geo, light_prof, li, light_two_sided[li] != 0,
+                                      ox, oy, oz, dx, dy, dz, t_end)
+            if tl == np.inf or tl <= t_lo:
+                continue
+        if fac <= 0.0:
+            continue
+        w = 1.0
+        if not full_weight:
+            w = power_heuristic(prev_pdf, emit_prob[n_emit - n_lights + li] * lpdf)
+        media.arrival(medium, mw, tl - t_lo)
+        for i in range(NW):
+            rad[i] += beta[i] * w * fac * light_scale[li] * at(spec, light_spec[li], lc[i], lf[i]) \
+                * mw[media.MW_TR, i]
+
+
+@function
+def _world_hit(dx, dy, dz, full_weight, prev_pdf, beta, rad, lc, lf, spec, world_spec, world_scale, world_img,
+               world_dist, world_par, world_row, world_emit, emit_prob):
+    """Add the world's radiance seen along d to ``rad``: the equirectangular image (MIS
+    weighted against its NEE pdf unless ``full_weight``) or the constant spectrum."""
+    if world_par[3] > 0.0:
+        ti, tj, wpdf = env_lookup(world_dist, world_par, world_img.shape[1], world_img.shape[0], dx, dy, dz)
+        w = 1.0
+        if not full_weight and world_emit >= 0:
+            w = power_heuristic(prev_pdf, emit_prob[world_emit] * wpdf)
+        cr = w * world_par[2] * world_img[tj, ti, 0]
+        cg = w * world_par[2] * world_img[tj, ti, 1]
+        cb = w * world_par[2] * world_img[tj, ti, 2]
+        for i in range(NW):
+            rad[i] += beta[i] * (cr * at(spec, world_row, lc[i], lf[i]) + cg * at(spec, world_row + 1, lc[i], lf[i])
+                                 + cb * at(spec, world_row + 2, lc[i], lf[i]))
+    elif world_spec >= 0:
+        for i in range(NW):
+            rad[i] += beta[i] * world_scale * at(spec, world_spec, lc[i], lf[i])
+
+
+@function
+def _textures(m, prim, bu, bv, snx, sny, snz, dx, dy, dz, cos_i, pm, pm_tex, ra, lc, lf, spec, tex_row, tri_tex,
+              tex_data, tex_info, mat_tex, mat_nstr):
+    """Material ``m``'s image textures at the hit (prim, bu, bv): the base colour texel's
+    rgb uplifted into ``ra`` (ρ(λ) = r B_r + g B_g + b B_b, Mallett–Yuksel, basis rows
+    tex_row..), the roughness texel as GGX α = roughness² on both axes in a copy of the
+    parameter row ``pm`` written to ``pm_tex``, and the normal map applied to the shading
+    normal, kept only on the side the ray comes from (as the interpolated normal).
+    Returns (base colour textured, roughness textured, r, g, b, shading normal)."""
+    t_base = mat_tex[m, 0]
+    t_rough = mat_tex[m, 1]
+    t_nrm = mat_tex[m, 2]
+    tu, tv = tex.hit_uv(tri_tex, prim, bu, bv)
+    cr = 0.0
+    cg = 0.0
+    cb = 0.0
+    if t_base >= 0:
+        cr, cg, cb = tex.sample(tex_data, tex_info, t_base, tu, tv)
+        for i in range(NW):
+            ra[i] = (cr * at(spec, tex_row, lc[i], lf[i]) + cg * at(spec, tex_row + 1, lc[i], lf[i])
+                     + cb * at(spec, tex_row + 2, lc[i], lf[i]))
+    if t_rough >= 0:
+        rr, _g, _b = tex.sample(tex_data, tex_info, t_rough, tu, tv)
+        for k in range(pm_tex.shape[0]):
+            pm_tex[k] = pm[k]
+        pm_tex[1] = max(rr * rr, ALPHA_MIN)
+        pm_tex[2] = pm_tex[1]
+    if t_nrm >= 0:
+        nr_, ng_, nb_ = tex.sample(tex_data, tex_info, t_nrm, tu, tv)
+        qx, qy, qz = tex.perturb_normal(tri_tex, prim, snx, sny, snz, nr_, ng_, nb_, mat_nstr[m])
+        if -(qx * dx + qy * dy + qz * dz) * cos_i > 0.0:
+            snx = qx
+            sny = qy
+            snz = qz
+    return t_base >= 0, t_rough >= 0, cr, cg, cb, snx, sny, snz
+
+
+@function
+def _splat(film, spectral, y, x, rad, pdf_lam, lam, cmf, photometric):
+    """Add the path's spectral radiance estimate to pixel (x, y): CIE XYZ, the sample count
+    and the sum of Y² (or, when ``photometric``, the V(λ)-weighted Y and its square), and
+    the spectral bins."""
+    n_bins = spectral.shape[2]
+    bin_width = (LMAX - LMIN) / max(n_bins, 1)
+    X = 0.0
+    Y = 0.0
+    Z = 0.0
+    V = 0.0
+    for i in range(NW):
+        if pdf_lam[i] > 0.0:
+            v = rad[i] / (pdf_lam[i] * NW)
+            X += v * lookup_cmf(cmf, 0, lam[i])
+            Y += v * lookup_cmf(cmf, 1, lam[i])
+            Z += v * lookup_cmf(cmf, 2, lam[i])
+            if photometric:
+                V += v * lookup_cmf(cmf, 3, lam[i])
+            if n_bins > 0:
+                b = int((lam[i] - LMIN) / bin_width)
+                if b >= n_bins:
+                    b = n_bins - 1
+                spectral[y, x, b] += v / bin_width
+    film[y, x, 0] += X
+    film[y, x, 1] += Y
+    film[y, x, 2] += Z
+    film[y, x, 3] += 1.0
+    if photometric:
+        film[y, x, 4] += V * V
+        film[y, x, 5] += V
+    else:
+        film[y, x, 4] += Y * Y
+
+
+def scratch(n_params):
+    """The scratch arrays render_rows works in (it allocates nothing: see ``kernel``):
+    (work, mw, pm_tex, lc, stack) for material parameter rows of ``n_params`` entries.
+    One set per concurrent call."""
+    return (np.empty((WORK_ROWS, NW)), np.empty((media.MW_ROWS, NW)), np.empty(max(int(n_params), 1)),
+            np.empty(NW, np.int64), np.empty(STACK_SIZE, np.int32))
+
+
+@kernel(refcount=False)
+def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, cam, filt,
+                nodes, tris, v0, e1, e2, tri_mat, tri_emitter,
+                mat_model, mat_p, mat_ra, mat_rb, mat_eta, mat_kappa, mat_ior, ior_tab,
+                mat_emis, mat_emis_scale, mat_emis_two,
+                spec, cmf,
+                light_kind, light_geo, light_prof, light_spec, light_scale, light_two_sided, light_visible,
+                emit_cdf, emit_prob, emit_tri, emit_light,
+                world_spec, world_scale, world_img, world_dist, world_par, world_row, world_emit,
+                spectral, aov, tri_nrm, spec_alb, sampler, n_total, mat_medium, med_tab, med_g, cam_medium, nee,
+                tri_flag, sensor_mat, film_transparent,
+                tri_tex, tex_data, tex_info, mat_tex, mat_nstr, tex_row, sph_lo, sph_hi, work, mw, pm_tex, lc, stack):
+    """Add samples s0 .. s1-1 of every pixel of rows y0 .. y1-1 to ``film`` (H, W, 5) float64.
+
+    cmf: (N_LAMBDA, 3) x̄, ȳ, z̄ of the observer, or (N_LAMBDA, 4) with V(λ) in column 3 when
+    the observer is not CIE 1931: then ``film`` has a 6th channel, the V-weighted Y, and
+    channel 4 sums its square (photometric quantities do not depend on the observer).
+
+    A serial kernel that releases the GIL: the renderer runs blocks of rows on a pool of
+    Python threads (compiling a prange kernel takes four times as long, and numba's
+    threading layers abort the process on concurrent launches). Rows never overlap, so
+    the film does not depend on the number of threads.
+
+    cam: the camera vector and filt the pixel filter's distribution (core/kernels/camera.py).
+
+    Materials: mat_model (MAT_* tags) and mat_p (K, 16) rows for core.bsdfs; spectral
+    inputs ra/rb (rows of ``spec``, -1: 0 / 1), η (row of ``ior_tab`` or the constant
+    mat_ior) and κ (row of ``ior_tab`` or 0). MAT_MIX/MAT_ADD pick one component per hit.
+
+    sampler: SAMPLER_* tag (independent, Halton, Hammersley); n_total: the render's
+    total samples per pixel (Hammersley's n).
+
+    World: a constant spectrum (world_spec row, world_scale), or, when world_par[3] > 0, the
+    equirectangular image world_img (H, W, 3) whose texel rgb weighs the three spectrum rows
+    world_row.. (the emission basis), scaled by world_par[2], importance sampled by
+    world_dist (see lights.env_*), entry world_emit of the emitter table.
+
+    Shading normals: tri_nrm (T, 9) float32, the three vertex normals of each triangle in
+    leaf order (0 rows: flat shading), interpolated with the hit's barycentrics and turned
+    to the geometric normal's side; the geometric normal still decides ray offsets and
+    which side a direction is on (a direction on different sides of the two normals
+    contributes nothing: no light leaks through shading normals).
+
+    aov: (H, W, 8) float64 sums per sample: 0-2 CIE XYZ of the first non-delta hit's
+    reflectance (ra) under D65 (spec_alb: (S, 3) XYZ of each spectrum row under D65 of
+    Y = 1, precomputed, so the pass carries no colour noise), 3-5 the
+    first hit's shading normal facing the camera, 6 the first hit's distance along the
+    camera ray, 7 the number of samples whose camera ray hit something, 8 the number of
+    samples that left the pixel transparent (alpha = 1 - that / samples; see below).
+
+    Holdout, transparent film and illuminance sensors: tri_flag (T,) int8 in leaf order
+    (0 entries: no flags), bit 1 a sensor triangle, bit 2 a holdout triangle. A camera ray
+    whose first hit is a holdout triangle ends there with no radiance and counts as
+    transparent; with film_transparent != 0 a camera ray that hits nothing counts as
+    transparent and adds no world radiance (the world still lights the scene).
+    sensor_mat ≥ 0 turns on measuring mode: the camera ray's first hit, if it is a sensor
+    triangle, takes material sensor_mat (a white two-sided Lambert, no emission) instead of
+    its own, every deeper vertex its real material, so the pixel's radiance is E/π; camera
+    rays that hit no sensor (or nothing) end at once, count as transparent, and analytic
+    lights seen by camera rays are ignored.
+
+    spectral: (H, W, B) float64 sums of the spectral radiance averaged over B equal bins
+    of [LMIN, LMAX] (W/(m² sr nm)); pass a (1, 1, 0) array to skip it.
+
+    light_geo: float64 (L, lights.LG_SIZE), layout in core/kernels/lights.py; light_prof: float64,
+    the photometric profiles of the lights that have one, concatenated (offsets in light_geo
+    column LG_PROF; at least one element); light_scale turns
+    a light's spectrum shape into its radiance (or intensity / illuminance for delta lights).
+    emit_*: the emitter distribution over emissive triangles (emit_tri ≥ 0, leaf order)
+    and analytic lights (emit_light ≥ 0); emit_cdf has E + 1 entries.
+
+    Media (core/kernels/media.py): mat_medium (K,) interior medium of each material (-1
+    none); med_tab (2 M, N_LAMBDA) σa, σs rows per medium in 1/m, (0, N_LAMBDA) when the
+    scene has neither media nor null surfaces (then nothing of this runs); med_g (M,) HG
+    anisotropy; cam_medium the camera's medium.
+
+    Image textures (core/textures.py, lookups in core/kernels/textures.py): tri_tex (T, 10)
+    float32 per leaf triangle, its corners' UVs, tangent ∂p/∂u and UV handedness ((0, 10):
+    no material has a texture, and none of this runs); tex_data / tex_info the texels of all
+    textures and their table; mat_tex (K, 3) each material's base colour, roughness and
+    normal texture (-1 none), mat_nstr (K,) its normal strength; tex_row the first of the
+    three reflectance basis rows of ``spec`` a base colour texel's rgb weighs.
+
+    Emissive triangles (compendium item 22): seen from a shading point under a solid angle Ω
+    in [sph_lo, sph_hi] sr, a triangle is sampled uniformly in Ω (Arvo's spherical triangle,
+    pdf 1/Ω), otherwise by area (pdf r² / (A cos θ)); the MIS weight of a BSDF-sampled ray that
+    hits an emissive triangle applies the same rule to the ray's origin. sph_lo > sph_hi turns
+    the solid-angle branch off (area sampling only).
+
+    work, mw, pm_tex, lc, stack: scratch arrays from ``scratch`` (the kernel allocates
+    nothing, so it runs without numba's reference counting).
+    """
+    height = film.shape[0]
+    width = film.shape[1]
+    n_emit = emit_prob.shape[0]
+    n_lights = light_kind.shape[0]
+    # nee = 0: the naive reference integrator (BSDF and phase sampling only, every emitter hit
+    # counted with weight 1), against which tests check the NEE + MIS estimator
+    do_nee = nee != 0 and n_emit > 0
+    eps = EPS_REL * scene_scale
+    has_media = med_tab.shape[0] > 0
+    has_tex = tri_tex.shape[0] > 0
+    thin_lens = cam[CAM_LENS_R] > 0.0
+    # a 4th cmf column is V(λ) (an observer other than CIE 1931): the film's channel 5 sums
+    # the photometric Y and channel 4 its square; else Y is photometric (5 channels)
+    photometric = cmf.shape[1] > 3 and film.shape[2] > 5
+    for y in range(y0, y1):
+        lam = work[0]
+        pdf_lam = work[1]
+        beta = work[2]
+        rad = work[3]
+        ra = work[4]
+        rb = work[5]
+        eta = work[6]
+        kappa = work[7]
+        fv = work[8]
+        le = work[9]
+        lf = work[10]
+        for x in range(width):
+            pix = y * width + x
+            pseed = pixel_seed(seed, pix)
+            for s in range(s0, s1):
+                key = path_key(seed, pix, s)
+                u0 = rnd_f(sampler, key, pseed, s, np.int64(0), n_total)
+                for i in range(NW):
+                    up = u0 + i / NW
+                    if up >= 1.0:
+                        up -= 1.0
+                    lam[i], pdf_lam[i] = sample_visible(up)
+                    lc[i], lf[i] = lam_cell(lam[i])
+                    beta[i] = 1.0
+                    rad[i] = 0.0
+                # camera ray: dimensions 1-2 the pixel filter, 3-4 the lens (drawn only for a
+                # thin lens: a pinhole ignores them, and each dimension is a pure function of
+                # its number, so skipping them changes nothing else)
+                u3 = 0.5
+                u4 = 0.5
+                if thin_lens:
+                    u3 = rnd_f(sampler, key, pseed, s, np.int64(3), n_total)
+                    u4 = rnd_f(sampler, key, pseed, s, np.int64(4), n_total)
+                ox, oy, oz, dx, dy, dz = camera_ray(cam, filt, x, y, width, height,
+                                                    rnd_f(sampler, key, pseed, s, np.int64(1), n_total),
+                                                    rnd_f(sampler, key, pseed, s, np.int64(2), n_total), u3, u4)
+                dim = np.int64(5)
+                depth = 0
+                prev_pdf = 0.0
+                prev_delta = True  # the camera ray: emitters seen directly get full weight
+                dispersed = False
+                alb_done = False
+                aX = 0.0
+                aY = 0.0
+                aZ = 0.0
+                medium = cam_medium
+                outer = np.int64(-1)  # np.int64: a literal -1 would compile media.shadow/nee/cross twice
+                transp = 0.0
+                t_lo = 0.0  # the ray goes on from here after passing null surfaces
+                if has_media:
+                    media.start_path(med_tab, medium, lam, mw)
+                while True:
+                    t, prim, bu, bv = trace_closest(ox, oy, oz, dx, dy, dz, t_lo, np.inf,
+                                                  nodes, tris, stack)
+                    t_end = t
+                    if medium >= 0:
+                        t_end = min(t, t_lo + media.free_flight(medium, mw, rnd_f(sampler, key, pseed, s, dim, n_total)))
+                        dim += 1
+                    # analytic lights: hit for their emission, never occluders (as in Cycles)
+                    if n_lights > 0:
+                        _light_hits(depth == 0 and sensor_mat >= 0, np.int64(depth), prim >= 0 or t_end < t, t_end, t_lo,
+                                    ox, oy, oz, dx, dy, dz, prev_delta or not do_nee, prev_pdf, medium, mw, beta, rad,
+                                    lc, lf, spec, light_kind, light_geo, light_prof, light_spec, light_scale,
+                                    light_two_sided, light_visible, emit_prob)
+                    if medium >= 0:
+                        if t_end < t:  # a scattering event in the medium
+                            media.segment(medium, mw, beta, t_end - t_lo, t_end < t)  # True here, not as a literal
+                            if depth > max_depth:
+                                break
+                            px = ox + t_end * dx
+                            py = oy + t_end * dy
+                            pz = oz + t_end * dz
+                            g = med_g[medium]
+                            if do_nee:
+                                ei = media.pick(emit_cdf, n_emit, rnd_f(sampler, key, pseed, s, dim, n_total))
+                                wx, wy, wz, dist, lpdf, fac = _emitter_sample(
+                                    ei, rnd_f(sampler, key, pseed, s, dim + 1, n_total),
+                                    rnd_f(sampler, key, pseed, s, dim + 2, n_total), px, py, pz, lam, le, v0, e1, e2,
+                                    tri_mat, mat_emis, mat_emis_scale, mat_emis_two, spec, light_kind, light_geo,
+                                    light_prof, light_spec, light_scale, light_two_sided, emit_tri, emit_light,
+                                    world_img,
+                                    world_dist, world_par, world_row, sph_lo, sph_hi)
+                                media.nee(px, py, pz, dx, dy, dz, g, wx, wy, wz, dist, lpdf, fac, le, emit_prob[ei],
+                                          medium, outer, lam, beta, rad, mw, nodes, tris, v0, e1,
+                                          e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack)
+                            dim += 3
+                            dx, dy, dz, prev_pdf = media.hg_sample(g, dx, dy, dz,
+                                                                   rnd_f(sampler, key, pseed, s, dim, n_total),
+                                                                   rnd_f(sampler, key, pseed, s, dim + 1, n_total))
+                            dim += 2
+                            prev_delta = False
+                            ox = px
+                            oy = py
+                            oz = pz
+                            t_lo = 0.0
+                            depth += 1
+                            q = media.live_max(beta, pdf_lam)
+                            if q <= 0.0:
+                                break
+                            if depth >= rr_depth:
+                                if q < 1.0:
+                                    if rnd_f(sampler, key, pseed, s, dim, n_total) >= q:
+                                        break
+                                    for i in range(NW):
+                                        beta[i] /= q
+                                dim += 1
+                            continue
+                        media.segment(medium, mw, beta, t - t_lo, t_end < t)  # False here, not as a literal
+                    if prim < 0:
+                        if depth == 0 and (film_transparent != 0 or sensor_mat >= 0):
+                            transp = 1.0
+                            break
+                        if world_par[3] > 0.0 or world_spec >= 0:
+                            _world_hit(dx, dy, dz, prev_delta or not do_nee, prev_pdf, beta, rad, lc, lf, spec,
+                                       world_spec, world_scale, world_img, world_dist, world_par, world_row,
+                                       world_emit, emit_prob)
+                        break
+                    px = ox + t * dx
+                    py = oy + t * dy
+                    pz = oz + t * dz
+                    nx, ny, nz = triangle_normal(e1, e2, prim)
+                    nlen = math.sqrt(nx * nx + ny * ny + nz * nz)
+                    if nlen == 0.0:
+                        break
+                    area = 0.5 * nlen
+                    nx /= nlen
+                    ny /= nlen
+                    nz /= nlen
+                    cos_i = -(nx * dx + ny * dy + nz * dz)
+                    if mat_model[tri_mat[prim]] == C.MAT_NULL:  # only bounds a medium: go straight on
+                        medium, outer = media.cross(medium, outer, mat_medium[tri_mat[prim]], cos_i > 0.0, med_tab,
+                                                    lam, mw)
+                        t_lo = t + eps
+                        continue
+                    # shading normal: interpolated, on the geometric normal's side; the geometric
+                    # one where the two disagree about the side the ray comes from
+                    snx = nx
+                    sny = ny
+                    snz = nz
+                    if tri_nrm.shape[0] > 0:
+                        b0 = 1.0 - bu - bv
+                        qx = b0 * tri_nrm[prim, 0] + bu * tri_nrm[prim, 3] + bv * tri_nrm[prim, 6]
+                        qy = b0 * tri_nrm[prim, 1] + bu * tri_nrm[prim, 4] + bv * tri_nrm[prim, 7]
+                        qz = b0 * tri_nrm[prim, 2] + bu * tri_nrm[prim, 5] + bv * tri_nrm[prim, 8]
+                        ql = math.sqrt(qx * qx + qy * qy + qz * qz)
+                        if ql > 0.0:
+                            if qx * nx + qy * ny + qz * nz < 0.0:
+                                ql = -ql
+                            qx /= ql
+                            qy /= ql
+                            qz /= ql
+                            if -(qx * dx + qy * dy + qz * dz) * cos_i > 0.0:
+                                snx = qx
+                                sny = qy
+                                snz = qz
+                    if depth == 0:
+                        fs = 1.0 if snx * dx + sny * dy + snz * dz <= 0.0 else -1.0
+                        aov[y, x, 3] += fs * snx
+                        aov[y, x, 4] += fs * sny
+                        aov[y, x, 5] += fs * snz
+                        aov[y, x, 6] += t
+                        aov[y, x, 7] += 1.0
+                    m = tri_mat[prim]
+                    if depth == 0 and tri_flag.shape[0] > 0:
+                        if sensor_mat >= 0:
+                            if (tri_flag[prim] & 1) == 0:
+                                transp = 1.0
+                                break
+                            m = sensor_mat  # white two-sided Lambert, emission ignored
+                        elif (tri_flag[prim] & 2) != 0:  # holdout: a hole in the film
+                            transp = 1.0
+                            break
+                    # emission: both sides (Blender's Emission shader) or the front side only
+                    if mat_emis[m] >= 0 and (cos_i > 0.0 or (cos_i < 0.0 and mat_emis_two[m] != 0)):
+                        w = 1.0
+                        if not prev_delta and do_nee:
+                            # the light pdf of this direction under the NEE's rule for (origin,
+                            # triangle): 1/Ω when it samples the solid angle, else by area
+                            om = 0.0
+                            hp = (ox - v0[prim, 0]) * nx + (oy - v0[prim, 1]) * ny + (oz - v0[prim, 2]) * nz
+                            if sph_lo <= sph_hi and area >= sph_lo * hp * hp:  # Ω ≤ A / h², as in the NEE
+                                # np.int64: one signature of _sph_triangle for every caller
+                                om, _wx, _wy, _wz = _sph_triangle(np.int64(prim), ox, oy, oz, v0, e1, e2, sph_lo,
+                                                                  sph_hi, -1.0, 0.0)
+                            if om > 0.0:
+                                pl = emit_prob[tri_emitter[prim]] / om
+                            else:
+                                pl = emit_prob[tri_emitter[prim]] * t * t / (area * abs(cos_i))
+                            w = power_heuristic(prev_pdf, pl)
+                        for i in range(NW):
+                            rad[i] += beta[i] * w * mat_emis_scale[m] * at(spec, mat_emis[m], lc[i], lf[i])
+                    if depth > max_depth:
+                        break
+                    # mixes: pick one component (Mix: by weight; Add: either, counted twice)
+                    mix_w = 1.0
+                    for _ in range(C.MIX_DEPTH):
+                        mm = mat_model[m]
+                        if mm == C.MAT_MIX:
+                            m = int(mat_p[m, 1]) if rnd_f(sampler, key, pseed, s, dim, n_total) < mat_p[m, 0] else int(mat_p[m, 2])
+                            dim += 1
+                        elif mm == C.MAT_ADD:
+                            m = int(mat_p[m, 1]) if rnd_f(sampler, key, pseed, s, dim, n_total) < 0.5 else int(mat_p[m, 2])
+                            mix_w *= 2.0
+                            dim += 1
+                        else:
+                            break
+                    model = mat_model[m]
+                    if model == C.MAT_MIX or model == C.MAT_ADD:
+                        break
+                    pm = mat_p[m]
+                    _lookup_material(m, lc, lf, spec, ior_tab, mat_ra, mat_rb, mat_eta, mat_kappa, mat_ior,
+                                     ra, rb, eta, kappa)
+                    tex_base = False
+                    cr = 0.0
+                    cg = 0.0
+                    cb = 0.0
+                    if has_tex:
+                        if mat_tex[m, 0] >= 0 or mat_tex[m, 1] >= 0 or mat_tex[m, 2] >= 0:
+                            tex_base, rough, cr, cg, cb, snx, sny, snz = _textures(
+                                m, np.int64(prim), bu, bv, snx, sny, snz, dx, dy, dz, cos_i, pm, pm_tex, ra, lc, lf, spec,
+                                tex_row, tri_tex, tex_data, tex_info, mat_tex, mat_nstr)
+                            if rough:
+                                pm = pm_tex
+                    # local frame around the shading normal (Duff et al. 2017)
+                    sgn = 1.0 if snz >= 0.0 else -1.0
+                    aa = -1.0 / (sgn + snz)
+                    bb = snx * sny * aa
+                    tx = 1.0 + sgn * snx * snx * aa
+                    ty = sgn * bb
+                    tz = -sgn * snx
+                    cx = bb
+                    cy = sgn + sny * sny * aa
+                    cz = -sny
+                    wox = -(dx * tx + dy * ty + dz * tz)
+                    woy = -(dx * cx + dy * cy + dz * cz)
+                    woz = -(dx * snx + dy * sny + dz * snz)
+                    flags_m = bsdf_flags(model, pm)
+                    if not alb_done and (flags_m & (BSDF_DIFFUSE | BSDF_GLOSSY)) != 0:
+                        alb_done = True
+                        if tex_base:
+                            aX = mix_w * (cr * spec_alb[tex_row, 0] + cg * spec_alb[tex_row + 1, 0]
+                                          + cb * spec_alb[tex_row + 2, 0])
+                            aY = mix_w * (cr * spec_alb[tex_row, 1] + cg * spec_alb[tex_row + 1, 1]
+                                          + cb * spec_alb[tex_row + 2, 1])
+                            aZ = mix_w * (cr * spec_alb[tex_row, 2] + cg * spec_alb[tex_row + 1, 2]
+                                          + cb * spec_alb[tex_row + 2, 2])
+                        elif mat_ra[m] >= 0:
+                            aX = mix_w * spec_alb[mat_ra[m], 0]
+                            aY = mix_w * spec_alb[mat_ra[m], 1]
+                            aZ = mix_w * spec_alb[mat_ra[m], 2]
+                    # next-event estimation (skipped for purely specular materials)
+                    if do_nee and (flags_m & (BSDF_DIFFUSE | BSDF_GLOSSY)) != 0:
+                        ue = rnd(sampler, key, pseed, s, dim, n_total)
+                        ei = media.pick(emit_cdf, n_emit, ue)
+                        ua, ub = rnd2(sampler, key, pseed, s, dim + 1, n_total)
+                        if emit_tri[ei] >= 0:  # emissive triangles inline: no function call
+                            wx, wy, wz, dist, lpdf, fac, l_row, l_scale = _triangle_sample(
+                                emit_tri[ei], ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale,
+                                mat_emis_two, sph_lo, sph_hi)
+                            for i in range(NW):
+                                le[i] = l_scale * at(spec, l_row, lc[i], lf[i])
+                        else:
+                            wx, wy, wz, dist, lpdf, fac = _emitter_sample(
+                                ei, ua, ub, px, py, pz, lam, le, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale,
+                                mat_emis_two, spec, light_kind, light_geo, light_prof, light_spec, light_scale,
+                                light_two_sided,
+                                emit_tri, emit_light, world_img, world_dist, world_par, world_row, sph_lo, sph_hi)
+                        cos_n = snx * wx + sny * wy + snz * wz
+                        if fac > 0.0 and lpdf > 0.0 and cos_n * (nx * wx + ny * wy + nz * wz) > 0.0:
+                            wix = wx * tx + wy * ty + wz * tz
+                            wiy = wx * cx + wy * cy + wz * cz
+                            if model == C.MAT_LAMBERT:
+                                pb = _lambert_eval(pm, ra, woz, cos_n, fv)
+                            else:
+                                pb = bsdf_eval(model, pm, ra, rb, eta, kappa, wox, woy, woz, wix, wiy, cos_n, fv)
+                            fmax = 0.0
+                            for i in range(NW):
+                                fmax = max(fmax, fv[i])
+                            if fmax > 0.0:
+                                side = 1.0 if cos_n > 0.0 else -1.0
+                                sox = px + side * eps * nx
+                                soy = py + side * eps * ny
+                                soz = pz + side * eps * nz
+                                tmax_s = _shadow_tmax(dist, eps, emit_tri[ei], sox, soy, soz, wx, wy, wz, v0, e1, e2)
+                                if media.unoccluded(has_media, sox, soy, soz, wx, wy, wz, tmax_s, medium, outer,
+                                                    mat_medium[tri_mat[prim]], cos_i, cos_n, lam, mw, fv, nodes, tris,
+                                                    v0, e1, e2, tri_mat, mat_model, mat_medium,
+                                                    med_tab, eps, stack):
+                                    pe = emit_prob[ei]
+                                    if lpdf == np.inf:  # delta light: NEE only, no MIS
+                                        g = mix_w * abs(cos_n) * fac / pe
+                                    else:
+                                        pl = pe * lpdf
+                                        g = mix_w * power_heuristic(pl, pb) * abs(cos_n) * fac / pl
+                                    for i in range(NW):
+                                        rad[i] += beta[i] * fv[i] * g * le[i]
+                    dim += 3
+                    # BSDF sampling
+                    u1, u2 = rnd2(sampler, key, pseed, s, dim, n_total)
+                    if model == C.MAT_LAMBERT:
+                        wix, wiy, wiz, pdf, flags = _lambert_sample(pm, ra, woz, u1, u2, fv)
+                    else:
+                        wix, wiy, wiz, pdf, flags = bsdf_sample(model, pm, ra, rb, eta, kappa, wox, woy, woz, u1, u2,
+                                                                rnd(sampler, key, pseed, s, dim + 2, n_total), fv)
+                    dim += 3
+                    if flags == 0:
+                        break
+                    if (flags & BSDF_DISPERSIVE) != 0 and not dispersed:
+                        if has_media:
+                            media.drop_companions(beta, mw)
+                        else:
+                            terminate_secondary(pdf_lam)
+                        dispersed = True
+                    q = 0.0
+                    for i in range(NW):
+                        beta[i] *= fv[i] * mix_w
+                        if pdf_lam[i] > 0.0:
+                            q = max(q, beta[i])
+                    prev_delta = (flags & BSDF_DELTA) != 0
+                    prev_pdf = pdf
+                    # back to world space
+                    dx = wix * tx + wiy * cx + wiz * snx
+                    dy = wix * ty + wiy * cy + wiz * sny
+                    dz = wix * tz + wiy * cz + wiz * snz
+                    cgeo = nx * dx + ny * dy + nz * dz
+                    if cgeo * wiz <= 0.0:
+                        break  # below the geometric surface on the shading normal's side: a leak
+                    side = 1.0 if cgeo > 0.0 else -1.0
+                    ox = px + side * eps * nx
+                    oy = py + side * eps * ny
+                    oz = pz + side * eps * nz
+                    t_lo = 0.0
+                    if has_media and (cgeo > 0.0) != (cos_i > 0.0):  # transmitted: into or out of the interior
+                        medium, outer = media.cross(medium, outer, mat_medium[tri_mat[prim]], cgeo < 0.0, med_tab,
+                                                    lam, mw)
+                    depth += 1
+                    if q <= 0.0:
+                        break
+                    if depth >= rr_depth:
+                        if q < 1.0:
+                            if rnd_f(sampler, key, pseed, s, dim, n_total) >= q:
+                                break
+                            for i in range(NW):
+                                beta[i] /= q
+                        dim += 1
+                _splat(film, spectral, y, x, rad, pdf_lam, lam, cmf, photometric)
+                aov[y, x, 0] += aX
+                aov[y, x, 1] += aY
+                aov[y, x, 2] += aZ
+                aov[y, x, 8] += transp

@@ -1,0 +1,80 @@
+"""The two-process cold compile (core/warmup.py): the recorded plan must be what the path
+kernel's type inference asks for, or the second process compiles helpers nobody uses."""
+import os
+import subprocess
+import sys
+import time
+
+import pytest
+
+from spectral_gi import core
+from spectral_gi.core.integrators import warmup
+from spectral_gi.core.integrators.compile_plan import PLAN
+
+
+@pytest.fixture(scope="module")
+def rendered():
+    core.render(core.cornell_box(8, 8, spp=1, max_depth=3), threads=1)
+
+
+def test_plan_matches_the_kernels_type_inference(rendered):
+    """Every helper the kernel calls, with the argument types it calls it with, is recorded,
+    and nothing else (re-record with `python benchmarks/compile_bench.py --record`)."""
+    assert [tuple(e) for e in PLAN] == warmup.record()
+
+
+def test_groups_split_the_plan():
+    names = {name for _, name, _ in PLAN}
+    assert warmup.HELPER_GROUP <= names, "a helper group name is not in the plan"
+    assert names - warmup.HELPER_GROUP, "this process would compile nothing ahead"
+
+
+def test_second_process_imports_the_package_under_blenders_name(rendered):
+    """Blender imports the extension as bl_ext.<repository>.spectral_gi: the second process
+    imports it under the same dotted name without running the add-on's __init__ (which
+    imports bpy), and compiles (here: loads from the cache) its whole group."""
+    root = warmup._ROOT  # the package root (the folder holding core/)
+    env = dict(os.environ, PYTHONPATH="")
+    out = subprocess.run([sys.executable, "-c", warmup._BOOT, "bl_ext.user_default.spectral_gi", root],
+                         capture_output=True, text=True, env=env, timeout=600)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert "bpy" not in out.stderr
+    assert int(out.stdout.strip().splitlines()[-1]) == len(warmup.HELPER_GROUP)
+
+
+def test_no_second_process_when_the_kernel_is_ready(rendered):
+    assert core.kernels_compiled()
+    assert warmup.start() is None
+    warmup.finish(None)  # nothing to stop
+
+
+def test_only_a_python_executable_is_started(monkeypatch):
+    """An interpreter whose executable is not Python (an old Blender binary) starts nothing;
+    a Python one gets this process's module search path (Blender adds the extension's
+    wheels to sys.path at run time)."""
+    monkeypatch.setattr(sys, "executable", "/opt/blender/blender")
+    assert warmup.command() is None
+    monkeypatch.undo()
+    argv, env = warmup.command()
+    assert argv[0] == sys.executable and argv[1] == "-c"
+    numba_dir = os.path.dirname(os.path.dirname(os.path.abspath(__import__("numba").__file__)))
+    assert numba_dir in env["PYTHONPATH"].split(os.pathsep)
+
+
+def test_switch_off(monkeypatch):
+    monkeypatch.setenv("SPECTRAL_GI_PARALLEL_COMPILE", "0")
+    assert warmup.start() is None
+
+
+def test_finish_waits_for_the_second_process_but_not_forever():
+    """Before the kernel's compile, ``finish`` lets the second process end its group, but
+    never waits longer than its grace: a stuck process is stopped."""
+    warmup.finish(None, 5.0)  # nothing to wait for
+    quick = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(0.5)"])
+    t = time.perf_counter()
+    warmup.finish(quick, 30.0)
+    assert quick.returncode == 0 and 0.3 < time.perf_counter() - t < 20.0  # ended on its own
+    stuck = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    t = time.perf_counter()
+    warmup.finish(stuck, 0.5)
+    assert stuck.returncode not in (None, 0) and 0.4 < time.perf_counter() - t < 15.0  # stopped

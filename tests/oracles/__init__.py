@@ -1,0 +1,1 @@
+"""Slow, plain NumPy references for the product's kernels (tests only)."""

@@ -4,7 +4,6 @@ README and docs describe the product (no work diary), and the generated or quote
 import argparse
 import importlib
 import importlib.util
-import os
 import re
 import subprocess
 import sys

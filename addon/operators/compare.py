@@ -3,7 +3,7 @@
 Matched: resolution, samples, max bounces (every Cycles bounce limit set to it, as a
 converging renderer has no separate diffuse/glossy limits), pixel filter and width,
 seed; Cycles' adaptive sampling, denoising, clamping, glossy filtering and film
-exposure are switched off (Cycles 5.0 defaults to adaptive sampling, denoising and an indirect clamp of 10). Both images are compared in
+exposure are switched off (Cycles 5.0's defaults: adaptive, denoised, indirect clamp 10). Both images are compared in
 scene-linear Rec.709 (core.compare_images: mean luminance ratio, relative RMSE of
 luminance, mean and 95th-percentile ΔE00). The side-by-side image and the false-colour
 ΔE00 map (with its legend) become Blender images and EXR files; the report is written

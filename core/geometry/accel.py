@@ -5,6 +5,7 @@ import numpy as np
 
 from ..jit import KERNEL_LOCK
 from . import bvh as K
+from .simd import BLOCK_COLS
 
 
 @dataclass
@@ -115,7 +116,7 @@ def build(v0, v1, v2):
     # arrays, which spares traversal a TLB miss per node on big scenes
     # blocks: a leaf of n triangles takes ceil(n / 4) <= n, so n rows always suffice; the
     # rows past the blocks used are never written, so their pages are never resident
-    tris = _aligned_empty((n, K.BLOCK_COLS), np.float32)
+    tris = _aligned_empty((n, BLOCK_COLS), np.float32)
     tv0 = np.empty((n, 3), np.float32)
     te1 = np.empty((n, 3), K.EDGE_DTYPE)
     te2 = np.empty((n, 3), K.EDGE_DTYPE)

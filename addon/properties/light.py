@@ -61,7 +61,6 @@ PROFILE_ITEMS = tuple(numbered_items(
      ("FILE", "File", "An IES LM-63 (.ies) or EULUMDAT (.ldt) file")]
     + [(f"PRESET_{n}", n.replace("_", " ").title(), f"Sample profile presets/ies/{n}") for n in _profile_presets()],
     fixed={"NONE": 0, "FILE": 1}))
-PRESET_MENUS = ("profile",)  # stored by stable number (enums.py)
 
 
 def _names(source):

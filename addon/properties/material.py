@@ -38,7 +38,6 @@ WARD_VARIANTS = (
 )
 
 _ITEMS = {}  # Blender keeps pointers to enum item strings: hold the lists for the add-on's lifetime
-PRESET_MENUS = ("reflectance_preset", "metal_preset", "glass_preset")  # stored by stable number (enums.py)
 
 
 def preset_items():

@@ -6,6 +6,10 @@ on its render thread (the UI stays responsive); the kernels release the GIL.
 """
 import bpy
 
+from .imageio import ILLUMINANCE_PASS, enabled_passes, sensors_enabled
+from .properties.scene import COLOUR_OUTPUT_PASS
+from .render_job import render_with_engine
+
 # Blender panels (output, dimensions, colour management, …) drawn for our engine too.
 # Lights are drawn by our own light panel (with their photometric units), not Blender's legacy one.
 EXCLUDE_PANELS = frozenset({"DATA_PT_light", "DATA_PT_spot", "NODE_DATA_PT_light", "DATA_PT_preview"})
@@ -26,8 +30,6 @@ class SpectralGIRenderEngine(bpy.types.RenderEngine):
 
     def render(self, depsgraph):
         try:
-            from .render_job import render_with_engine
-
             render_with_engine(self, depsgraph)
         except Exception as exc:  # never let an exception escape into Blender's render job
             import traceback
@@ -36,25 +38,15 @@ class SpectralGIRenderEngine(bpy.types.RenderEngine):
             self.report({"ERROR"}, f"Spectral GI: {type(exc).__name__}: {exc}")
 
     def update_render_passes(self, scene=None, renderlayer=None):
-        from .imageio import ILLUMINANCE_PASS, enabled_passes
-
         self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
         for name, channels, chan_id, kind in enabled_passes(renderlayer):
             self.register_pass(scene, renderlayer, name, channels, chan_id, kind)
         # the image in an output space other than Rec.709 (Combined stays Blender's scene-linear)
         settings = getattr(scene, "spectral_gi", None) if scene is not None else None
         if getattr(settings, "colour_space", "REC709") != "REC709":
-            from .properties.scene import COLOUR_OUTPUT_PASS
-
             self.register_pass(scene, renderlayer, COLOUR_OUTPUT_PASS, 3, "RGB", "COLOR")
         if sensors_enabled(scene):
             self.register_pass(scene, renderlayer, *ILLUMINANCE_PASS)
-
-
-def sensors_enabled(scene):
-    """True when the scene asks for the Illuminance pass (Render properties > Sensors)."""
-    settings = getattr(scene, "spectral_gi", None) if scene is not None else None
-    return bool(getattr(settings, "use_sensors", False))
 
 
 def compat_panels():

@@ -76,15 +76,13 @@ def enabled_passes(view_layer):
     return [(name, n, chan, kind) for name, n, chan, kind, prop, _attr in PASS_SPECS if getattr(settings, prop, False)]
 
 
-def pass_arrays(developed, names, transparent=False):
+def pass_arrays(developed, names):
     """{pass name: (H, W, C) float32 array, rows top-to-bottom} for Combined and the passes in ``names``.
 
     Combined is linear Rec.709 with the core's alpha (``developed.alpha``: the fraction of
     samples that neither saw a holdout nor, with Film > Transparent, missed everything),
-    premultiplied as Cycles' (transparent samples carry no radiance). Without a core alpha
-    (an older core) alpha is 1, or with ``transparent`` 0 and black where no camera ray hit
-    anything. A pass whose data the core's development does not provide (an older core) is
-    filled with zeros and listed in the second return value.
+    premultiplied as Cycles' (transparent samples carry no radiance). Depth is
+    ``NO_HIT_DEPTH`` where no camera ray hit anything.
     """
     import numpy as np
 
@@ -93,32 +91,25 @@ def pass_arrays(developed, names, transparent=False):
     out = {}
     combined = np.empty((h, w, 4), dtype=np.float32)
     combined[..., :3] = rgb
-    combined[..., 3] = 1.0
-    depth = getattr(developed, "depth", None)
-    alpha = getattr(developed, "alpha", None)
-    if alpha is not None:
-        combined[..., 3] = np.asarray(alpha).reshape(h, w)
-    elif transparent and depth is not None:
-        hit = np.isfinite(np.asarray(depth).reshape(h, w))
-        combined[~hit] = 0.0
+    combined[..., 3] = np.asarray(developed.alpha).reshape(h, w)
     out["Combined"] = combined
-    missing = []
     specs = {s[0]: s for s in PASS_SPECS}
     for name in names:
         _n, channels, _chan, _kind, _prop, attr = specs[name]
-        data = getattr(developed, attr, None)
-        if data is None:
-            missing.append(name)
-            out[name] = np.zeros((h, w, channels), dtype=np.float32)
-            continue
-        a = np.asarray(data, dtype=np.float32).reshape(h, w, channels)
+        a = np.asarray(getattr(developed, attr), dtype=np.float32).reshape(h, w, channels)
         if name == "Depth":
             a = np.where(np.isfinite(a), a, np.float32(NO_HIT_DEPTH)).astype(np.float32)
         out[name] = a
-    return out, missing
+    return out
 
 
 ILLUMINANCE_PASS = ("Illuminance", 1, "X", "VALUE")  # lux on the sensor objects; 0 elsewhere
+
+
+def sensors_enabled(scene):
+    """True when the scene asks for the Illuminance pass (Render properties > Sensors)."""
+    settings = getattr(scene, "spectral_gi", None) if scene is not None else None
+    return bool(getattr(settings, "use_sensors", False))
 
 
 def illuminance_pass(lux):

@@ -10,9 +10,9 @@ import os
 
 import bpy
 
-from . import engine, operators, properties, ui
+from . import engine, operators, properties, ui, versioning
 
-MODULES = (properties, engine, operators, ui)
+MODULES = (properties, versioning, engine, operators, ui)
 
 NUMBA_CACHE_SUBDIR = "numba_cache"
 

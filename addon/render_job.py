@@ -10,7 +10,10 @@ import threading
 import time
 import traceback
 
-from .imageio import RESULT_IMAGE
+from .export import ExportCancelled, export_scene
+from .imageio import (RESULT_IMAGE, enabled_passes, illuminance_pass, pass_arrays, sensors_enabled, write_result_passes,
+                      write_rgb)
+from .properties.scene import COLOUR_OUTPUT_PASS
 
 DISPLAY_INTERVAL = 1.0  # seconds between progressive updates of the result image
 
@@ -169,8 +172,6 @@ class RenderJob:
         return self._show(film)
 
     def _show(self, film):
-        from .imageio import write_rgb
-
         img = write_rgb(film.develop().rgb, self.image_name)
         self.image_name = img.name
         self._shown_spp = film.spp
@@ -247,30 +248,13 @@ def cancel_current(wait=0.0):
 ENGINE_MIN_UPDATE = 0.2  # seconds between partial results, at least (more if developing is slow)
 
 
-def _develop(film, white_balance, colour_space="rec709"):
-    """The film's development (with the core's AOVs when it has them), white-balanced if asked,
-    with ``output`` in ``colour_space``."""
-    if white_balance is None and colour_space == "rec709":
-        return film.develop()
-    try:
-        return film.develop(white_balance=white_balance, colour_space=colour_space)
-    except TypeError:  # an older Film.develop without the arguments
-        from ..core import develop
-
-        return develop(film.sums, white_balance=white_balance)
-
-
 def colour_output_arrays(developed, arrays):
     """Add the Colour Output pass (the image in the render's output space, ACEScg or XYZ) to
     ``arrays``: Combined stays linear Rec.709, which Blender's colour management displays."""
-    from .properties.scene import COLOUR_OUTPUT_PASS
-
-    space = getattr(developed, "colour_space", "rec709")
-    out = getattr(developed, "output", None)
-    if space != "rec709" and out is not None:
+    if developed.colour_space != "rec709":
         import numpy as np
 
-        arrays[COLOUR_OUTPUT_PASS] = np.asarray(out, dtype=np.float32)
+        arrays[COLOUR_OUTPUT_PASS] = np.asarray(developed.output, dtype=np.float32)
     return arrays
 
 
@@ -304,7 +288,6 @@ def sensor_report(stats):
 def _render_sensors(engine, core_scene, layer, threads):
     """The measuring render of the sensor objects into the Illuminance pass; statistics into STATE."""
     from ..core import has_sensors, render_illuminance
-    from .imageio import illuminance_pass, write_result_passes
 
     STATE.illuminance = None
     if not has_sensors(core_scene):
@@ -329,10 +312,6 @@ def render_with_engine(engine, depsgraph):
     Partial results after each pass (throttled), ``test_break()`` cancels after the current
     pass and keeps what was rendered; errors are reported, never raised.
     """
-    from .engine import sensors_enabled
-    from .export import ExportCancelled, export_scene
-    from .imageio import enabled_passes, pass_arrays, write_result_passes
-
     scene = depsgraph.scene
     view_layer = depsgraph.view_layer
     settings = getattr(scene, "spectral_gi", None)
@@ -363,8 +342,7 @@ def render_with_engine(engine, depsgraph):
 
         white_balance = scene_white_xy(core_scene)
     names = [p[0] for p in enabled_passes(view_layer)]
-    transparent = bool(scene.render.film_transparent)
-    colour_space = getattr(core_scene.settings, "colour_space", "rec709")
+    colour_space = core_scene.settings.colour_space
 
     result = engine.begin_result(0, 0, width, height, layer=view_layer.name)
     layer = result.layers[0]
@@ -382,7 +360,7 @@ def render_with_engine(engine, depsgraph):
         if now - clock["last"] < clock["interval"] or film.spp >= total:
             return  # the last pass is written in full below
         t0 = time.perf_counter()
-        arrays, _ = pass_arrays(_develop(film, white_balance, colour_space), [], transparent)
+        arrays = pass_arrays(film.develop(white_balance=white_balance, colour_space=colour_space), [])
         write_result_passes(layer, arrays)
         engine.update_result(result)
         clock["shown"] = film.spp
@@ -397,12 +375,8 @@ def render_with_engine(engine, depsgraph):
         film, stats = render(core_scene, threads=engine_threads(scene), progress=progress,
                              should_cancel=engine.test_break, on_pass=on_pass, status=status)
         if film.spp > 0:
-            developed = _develop(film, white_balance, colour_space)
-            arrays, missing = pass_arrays(developed, names, transparent)
-            write_result_passes(layer, colour_output_arrays(developed, arrays))
-            if missing:
-                engine.report({"WARNING"}, "Spectral GI: this build of the renderer does not produce the "
-                                           f"{', '.join(missing)} pass(es); they are left black")
+            developed = film.develop(white_balance=white_balance, colour_space=colour_space)
+            write_result_passes(layer, colour_output_arrays(developed, pass_arrays(developed, names)))
             if sensors_enabled(scene) and not stats.cancelled:
                 _render_sensors(engine, core_scene, layer, engine_threads(scene))
     except Exception as exc:  # a failure in the renderer: report it, keep Blender alive
@@ -416,7 +390,7 @@ def render_with_engine(engine, depsgraph):
         else:
             text = (f"{stats.spp} samples in {stats.seconds:.1f} s "
                     f"({stats.samples_per_second / 1e6:.2f} M samples/s)")
-            reason = getattr(stats, "stop_reason", "spp")
+            reason = stats.stop_reason
             if reason in ("time_limit", "noise_target"):
                 text += " — stopped at the " + ("time limit" if reason == "time_limit" else "noise target")
         engine.update_stats("Spectral GI", text)

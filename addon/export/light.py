@@ -53,7 +53,8 @@ def has_uniform_scale(matrix, tolerance=1e-6):
 
 
 def sphere_luminance(intensity_cd, radius_m):
-    """Luminance (cd/m²) of a sphere of ``radius_m`` with luminous intensity ``intensity_cd``: I / (π r²); 0 for a point."""
+    """Luminance (cd/m²) of a sphere of ``radius_m`` with luminous intensity ``intensity_cd``: I / (π r²);
+    0 for a point."""
     r = float(radius_m)
     return float(intensity_cd) / (math.pi * r * r) if r > 0.0 else 0.0
 

@@ -29,7 +29,8 @@ def mapping_z_rotation(ctx, name, mapping):
     Location, scale and the X/Y rotations are not supported (noted).
     """
     rot = tuple(float(x) for x in mapping.inputs["Rotation"].default_value)
-    loc = tuple(float(x) for x in mapping.inputs["Location"].default_value) if "Location" in mapping.inputs else (0,) * 3
+    loc = (tuple(float(x) for x in mapping.inputs["Location"].default_value) if "Location" in mapping.inputs
+           else (0,) * 3)
     scale = tuple(float(x) for x in mapping.inputs["Scale"].default_value) if "Scale" in mapping.inputs else (1,) * 3
     if mapping.inputs["Rotation"].is_linked:
         ctx.note(f"{name}: a linked Mapping rotation is ignored")

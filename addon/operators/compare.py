@@ -520,7 +520,7 @@ class ComparisonRun:
 
 
 class SPECTRALGI_OT_compare_cycles(bpy.types.Operator):
-    """Render the scene with Spectral GI and with Cycles at matched settings; show a side-by-side image, a ΔE00 map and the numbers"""
+    """Render the scene with Spectral GI and with Cycles at matched settings; show a side-by-side image, a ΔE00 map and the numbers"""  # noqa: E501  (the tooltip)
 
     bl_idname = "spectral_gi.compare_cycles"
     bl_label = "Compare with Cycles"

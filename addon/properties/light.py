@@ -8,6 +8,8 @@ Blender W = 683 lm). A designer can instead give the data-sheet numbers: "1200 l
 import bpy
 from bpy.props import EnumProperty, FloatProperty, StringProperty
 
+from .enums import numbered_items
+
 UNITS = (
     ("BLENDER", "Blender Power",
      "Blender's Power (W) or a sun's Strength (W/m²) and the light's colour, as Cycles reads them, "
@@ -52,11 +54,13 @@ def _profile_presets():
         return []
 
 
-# built once: Blender keeps references to the item strings of an enum
-PROFILE_ITEMS = tuple([("NONE", "None", "No profile: the light emits equally in every direction (a spot: in its cone)"),
-                       ("FILE", "File", "An IES LM-63 (.ies) or EULUMDAT (.ldt) file")]
-                      + [(f"PRESET_{n}", n.replace("_", " ").title(), f"Sample profile presets/ies/{n}")
-                         for n in _profile_presets()])
+# built once: Blender keeps references to the item strings of an enum. None and File are 0 and 1,
+# the shipped samples are numbered by identifier (enums.py), so adding a sample keeps saved choices.
+PROFILE_ITEMS = tuple(numbered_items(
+    [("NONE", "None", "No profile: the light emits equally in every direction (a spot: in its cone)"),
+     ("FILE", "File", "An IES LM-63 (.ies) or EULUMDAT (.ldt) file")]
+    + [(f"PRESET_{n}", n.replace("_", " ").title(), f"Sample profile presets/ies/{n}") for n in _profile_presets()],
+    fixed={"NONE": 0, "FILE": 1}))
 
 
 def _names(source):

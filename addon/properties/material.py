@@ -9,6 +9,8 @@ import bpy
 from bpy.props import (BoolProperty, EnumProperty, FloatProperty, FloatVectorProperty, IntProperty, PointerProperty,
                        StringProperty)
 
+from .enums import numbered_items
+
 MODELS = (
     ("AUTO", "From Nodes", "Translate the material's shader nodes (Principled, Diffuse, Glossy, Glass, "
                            "Mix, Add, Emission, …) into the renderer's models"),
@@ -39,16 +41,19 @@ _ITEMS = {}  # Blender keeps pointers to enum item strings: hold the lists for t
 
 
 def preset_items():
-    """Enum items of the preset menus, from the core's data: {"reflectance": [...], "metal": [...], "glass": [...]}."""
+    """Enum items of the preset menus, from the core's data: {"reflectance": [...], "metal": [...], "glass": [...]},
+    each item numbered by its identifier (``enums.numbered_items``), so adding a preset keeps saved choices."""
     if not _ITEMS:
         from ...core import glass_preset_names, metal_preset_names, reflectance_preset_names
 
-        _ITEMS["reflectance"] = [(n, n[:1].upper() + n[1:], f"ColorChecker patch '{n}' (measured reflectance)")
-                                 for n in reflectance_preset_names()]
-        _ITEMS["metal"] = [(n, n, f"Measured complex refractive index (η, κ) of {n}")
-                           for n in metal_preset_names()]
-        _ITEMS["glass"] = [(n, n.replace("_", " "), f"Glass {n}: refractive index from its dispersion formula")
-                           for n in glass_preset_names()]
+        _ITEMS["reflectance"] = numbered_items(
+            (n, n[:1].upper() + n[1:], f"ColorChecker patch '{n}' (measured reflectance)")
+            for n in reflectance_preset_names())
+        _ITEMS["metal"] = numbered_items((n, n, f"Measured complex refractive index (η, κ) of {n}")
+                                         for n in metal_preset_names())
+        _ITEMS["glass"] = numbered_items(
+            (n, n.replace("_", " "), f"Glass {n}: refractive index from its dispersion formula")
+            for n in glass_preset_names())
     return _ITEMS
 
 

@@ -35,6 +35,9 @@ OBSERVERS = (
 )
 COLOUR_OUTPUT_PASS = "Colour Output"  # render pass holding the image in an output space other than Rec.709
 
+# Layout of the settings the add-on stores in a .blend file; addon/versioning.py brings older files up to it.
+SCHEMA_VERSION = 1
+
 
 class SpectralGISceneSettings(bpy.types.PropertyGroup):
     """Render settings of the Spectral GI path tracer, stored in the scene."""
@@ -118,6 +121,13 @@ class SpectralGISceneSettings(bpy.types.PropertyGroup):
                     "Sensor (Object properties) into an Illuminance pass: a second render of the same "
                     "samples, with the sensors' first hits measured by a white Lambertian surface",
         default=False,
+    )
+
+    schema_version: IntProperty(
+        name="Settings Version",
+        description="Layout version of the Spectral GI settings stored in this file (a count): written when the "
+                    "file is saved, used to update files saved by an older version of the add-on",
+        default=SCHEMA_VERSION, min=0, options={"HIDDEN"},
     )
 
     # ------------------------------------------------------------------ Cycles comparison (last result)

@@ -315,13 +315,28 @@ class Scene:
 
 def validate(scene: Scene) -> Scene:
     """Check every field of ``scene``; raise SceneError naming the first bad one."""
-    from ..spectra import moments
-
     if not isinstance(scene, Scene):
         _fail("scene", f"expected a Scene, got {type(scene).__name__}")
     if scene.version != C.SCENE_FORMAT_VERSION:
         _fail("version", f"unknown scene format version {scene.version!r} "
                          f"(this build reads version {C.SCENE_FORMAT_VERSION})")
+
+    _validate_spectra(scene)
+    spec_ref = _spectrum_reference(scene)
+    _validate_media(scene)
+    _validate_materials(scene, spec_ref)
+    _validate_meshes(scene)
+    _check_textures(scene, _fail)
+    _validate_profiles(scene)
+    _validate_lights(scene, spec_ref)
+    _validate_camera(scene.camera)
+    _validate_world(scene, spec_ref)
+    _validate_settings(scene.settings)
+    return scene
+
+
+def _validate_spectra(scene):
+    from ..spectra import moments
 
     sp = scene.spectra
     n_spec = len(sp)
@@ -338,6 +353,12 @@ def validate(scene: Scene) -> Scene:
         if problem:
             _fail(nm, problem)
 
+
+def _spectrum_reference(scene):
+    """A check of a field that names a spectrum of ``scene``: index in range, right kind."""
+    sp = scene.spectra
+    n_spec = len(sp)
+
     def spec_ref(name, idx, kind, allow_none=True):
         _check_number(name, idx, integer=True)
         if idx == -1 and allow_none:
@@ -348,7 +369,11 @@ def validate(scene: Scene) -> Scene:
             want = "bounded (reflectance)" if kind == C.SPECTRUM_BOUNDED else "unbounded (emission)"
             _fail(name, f"spectrum {idx} ({sp.names[idx]!r}) must be {want}")
 
-    n_med = len(scene.media)
+    return spec_ref
+
+
+def _validate_media(scene):
+    n_spec = len(scene.spectra)
     for i, md in enumerate(scene.media):
         nm = f"media[{i}] ({md.name!r})"
         for key in ("absorption", "scattering"):
@@ -362,6 +387,9 @@ def validate(scene: Scene) -> Scene:
         if not -1.0 < md.anisotropy < 1.0:
             _fail(f"{nm}.anisotropy", f"Henyey–Greenstein g must be in (-1, 1), got {md.anisotropy}")
 
+
+def _validate_materials(scene, spec_ref):
+    n_med = len(scene.media)
     n_mat = len(scene.materials)
     it = scene.ior_tables
     _check_array("ior_tables.values", it.values, np.float32, (len(it), C.N_LAMBDA))
@@ -419,6 +447,9 @@ def validate(scene: Scene) -> Scene:
                     stack.append((int(mj.params[k]), depth + 1))
         del seen
 
+
+def _validate_meshes(scene):
+    n_mat = len(scene.materials)
     for i, mesh in enumerate(scene.meshes):
         nm = f"meshes[{i}] ({mesh.name!r})"
         _check_array(f"{nm}.positions", mesh.positions, np.float32, (None, 3))
@@ -440,9 +471,8 @@ def validate(scene: Scene) -> Scene:
             if not isinstance(getattr(mesh, key), (bool, np.bool_)):
                 _fail(f"{nm}.{key}", f"expected true or false, got {getattr(mesh, key)!r}")
 
-    _check_textures(scene, _fail)
 
-    n_prof = len(scene.profiles)
+def _validate_profiles(scene):
     for i, pr in enumerate(scene.profiles):
         nm = f"profiles[{i}] ({getattr(pr, 'name', '?')!r})"
         if not isinstance(pr, Profile):
@@ -457,6 +487,9 @@ def validate(scene: Scene) -> Scene:
         if pr.candela.size and pr.candela.min() < 0.0:
             _fail(f"{nm}.candela", "negative intensity")
 
+
+def _validate_lights(scene, spec_ref):
+    n_prof = len(scene.profiles)
     for i, li in enumerate(scene.lights):
         nm = f"lights[{i}] ({li.name!r})"
         if isinstance(li.kind, bool) or li.kind not in C.LIGHT_KINDS:
@@ -503,7 +536,8 @@ def validate(scene: Scene) -> Scene:
             _check_number(f"{nm}.illuminance", li.illuminance, lo=0.0)
             _check_number(f"{nm}.angle", li.angle, lo=0.0, hi=math.pi)
 
-    cam = scene.camera
+
+def _validate_camera(cam):
     _check_array("camera.to_world", np.asarray(cam.to_world), np.float64, (4, 4))
     _check_number("camera.width", cam.width, lo=1, hi=65536, integer=True)
     _check_number("camera.height", cam.height, lo=1, hi=65536, integer=True)
@@ -523,6 +557,8 @@ def validate(scene: Scene) -> Scene:
     if abs(np.linalg.det(rot)) < 1e-12:
         _fail("camera.to_world", "the rotation part is singular")
 
+
+def _validate_world(scene, spec_ref):
     spec_ref("world.background", scene.world.background, C.SPECTRUM_UNBOUNDED)
     _check_number("world.luminance", scene.world.luminance, lo=0.0)
     wimg = scene.world.image
@@ -536,7 +572,8 @@ def validate(scene: Scene) -> Scene:
     _check_number("world.rotation", scene.world.rotation)
     _check_number("world.image_scale", scene.world.image_scale, lo=0.0)
 
-    s = scene.settings
+
+def _validate_settings(s):
     _check_number("settings.spp", s.spp, lo=1, hi=1 << 24, integer=True)
     _check_number("settings.max_depth", s.max_depth, lo=0, hi=1024, integer=True)
     _check_number("settings.rr_depth", s.rr_depth, lo=1, hi=1024, integer=True)
@@ -562,7 +599,6 @@ def validate(scene: Scene) -> Scene:
         _fail("settings.film_transparent", f"expected true or false, got {s.film_transparent!r}")
     _check_number("settings.tri_solid_angle_min", s.tri_solid_angle_min, lo=0.0, hi=4.0 * math.pi)
     _check_number("settings.tri_solid_angle_max", s.tri_solid_angle_max, lo=0.0, hi=4.0 * math.pi)
-    return scene
 
 
 # --------------------------------------------------------------------------- save / load

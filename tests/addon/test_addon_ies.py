@@ -45,8 +45,8 @@ def test_point_light_with_a_profile_file_exports_it(ext, bpy):
     np.testing.assert_allclose(L.direction, (0, 0, -1), atol=1e-6)
     np.testing.assert_allclose(L.axis_u, (0, 1, 0), atol=1e-6)
     # the renderer's frame: C0 (the light's local −Y) is world +X after the 90° turn about Z
-    renderer = importlib.import_module(MODULE + ".core.renderer")
-    lights = importlib.import_module(MODULE + ".core.kernels.lights")
+    renderer = importlib.import_module(MODULE + ".core.integrators.render")
+    lights = importlib.import_module(MODULE + ".core.lights.kernel")
     prep = renderer.prepare(res.scene)
     g = prep.light_geo[0]
     np.testing.assert_allclose(g[lights.LG_U:lights.LG_U + 3], (0, 1, 0), atol=1e-6)

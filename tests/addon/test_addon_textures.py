@@ -154,7 +154,8 @@ def test_roughness_and_normal_map_textures(ext, bpy):
     root = s.materials[int(s.meshes[0].material[0])]
     plastic = [m for m in leaves(s, root) if m.model == C.MAT_PLASTIC]
     assert plastic and plastic[0].roughness_texture == next(i for i, t in enumerate(s.textures) if t is r)
-    assert plastic[0].normal_texture == next(i for i, t in enumerate(s.textures) if t is n) and plastic[0].normal_strength == pytest.approx(0.7)
+    assert plastic[0].normal_texture == next(i for i, t in enumerate(s.textures) if t is n)
+    assert plastic[0].normal_strength == pytest.approx(0.7)
     assert res.warning is None or "Normal" not in res.warning
     s.settings.spp = 2
     film, _ = ext.core.render(s, threads=1)

@@ -32,6 +32,8 @@ Scenes:
 (min, max) thresholds of the rule and prints their RMSE and CPU time.
 """
 import argparse
+import os
+import sys
 import time
 
 import numpy as np
@@ -44,20 +46,11 @@ from spectral_gi.core.scene import (
     TRI_SOLID_ANGLE_MAX, TRI_SOLID_ANGLE_MIN, Camera, Material, Mesh, RenderSettings, Scene, SpectrumTable)
 from spectral_gi.core.spectra import uplift
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
+from helpers import box_mesh, look_at  # noqa: E402  (the test suite's scene builders)
+
 AREA_ONLY = (1.0, 0.0)
 DEFAULT = (TRI_SOLID_ANGLE_MIN, TRI_SOLID_ANGLE_MAX)
-
-
-def _look_at(eye, target, up=(0.0, 0.0, 1.0)):
-    eye = np.asarray(eye, float)
-    f = np.asarray(target, float) - eye
-    f /= np.linalg.norm(f)
-    r = np.cross(f, up)
-    r /= np.linalg.norm(r)
-    u = np.cross(r, f)
-    m = np.eye(4)
-    m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3] = r, u, -f, eye
-    return m
 
 
 def _grid(name, x0, x1, y0, y1, z, n, material, down):
@@ -75,16 +68,6 @@ def _grid(name, x0, x1, y0, y1, z, n, material, down):
     return Mesh(name, pos, tris, np.full(len(tris), material, np.int32))
 
 
-def _box(name, lo, hi, material):
-    lo = np.asarray(lo, float)
-    hi = np.asarray(hi, float)
-    c = np.array([[lo[0], lo[1], lo[2]], [hi[0], lo[1], lo[2]], [hi[0], hi[1], lo[2]], [lo[0], hi[1], lo[2]],
-                  [lo[0], lo[1], hi[2]], [hi[0], lo[1], hi[2]], [hi[0], hi[1], hi[2]], [lo[0], hi[1], hi[2]]])
-    quads = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (2, 3, 7, 6), (1, 2, 6, 5), (0, 4, 7, 3)]
-    tris = np.array([t for a, b, cc, d in quads for t in ((a, b, cc), (a, cc, d))], np.int32)
-    return Mesh(name, c.astype(np.float32), tris, np.full(len(tris), material, np.int32))
-
-
 def panel_scene(res=64, spp=16, n_panel=1, height=0.35, max_depth=3, seed=0):
     """A grey floor and two boxes under a large, near, one-sided emissive panel."""
     spectra = SpectrumTable.empty()
@@ -96,15 +79,15 @@ def panel_scene(res=64, spp=16, n_panel=1, height=0.35, max_depth=3, seed=0):
             Material("panel", reflectance=grey, emission=flat, emission_luminance=100.0, two_sided=False)]
     meshes = [_grid("floor", -2.0, 2.0, -2.0, 2.0, 0.0, 1, 0, False),
               _grid("panel", -1.0, 1.0, -1.0, 1.0, height, n_panel, 1, True),
-              _box("box1", (-0.5, -0.3, 0.0), (-0.2, 0.0, 0.15), 0),
-              _box("box2", (0.2, 0.1, 0.0), (0.6, 0.5, 0.1), 0)]
-    cam = Camera(_look_at((0.0, -1.9, 0.3), (0.0, 0.0, 0.05)), width=res, height=res, lens_mm=24.0)
+              box_mesh("box1", (-0.5, -0.3, 0.0), (-0.2, 0.0, 0.15), 0),
+              box_mesh("box2", (0.2, 0.1, 0.0), (0.6, 0.5, 0.1), 0)]
+    cam = Camera(look_at((0.0, -1.9, 0.3), (0.0, 0.0, 0.05)), width=res, height=res, lens_mm=24.0)
     return Scene(meshes=meshes, spectra=spectra, materials=mats, camera=cam,
                  settings=RenderSettings(spp=spp, max_depth=max_depth, seed=seed, filter=C.FILTER_BOX))
 
 
 def cornell_scene(res=64, spp=16, seed=0):
-    sc = core.cornell_box(res, res, spp=spp, max_depth=3, seed=seed)
+    sc = core.cornellbox_mesh(res, res, spp=spp, max_depth=3, seed=seed)
     sc.settings.filter = C.FILTER_BOX
     return sc
 
@@ -140,7 +123,7 @@ def cornell_cost(reps=3):
     best = {name: 1e9 for name, _ in rules}
     for _ in range(reps):
         for name, rule in rules:
-            sc = core.cornell_box(128, 128, spp=16, max_depth=4)
+            sc = core.cornellbox_mesh(128, 128, spp=16, max_depth=4)
             sc.settings.tri_solid_angle_min, sc.settings.tri_solid_angle_max = rule
             c0 = time.process_time()
             core.render(sc, threads=1)

@@ -207,6 +207,188 @@ def _collapse(n2, l2, nodes, st, c_ref, c_cnt, c_box):
     return n4
 
 
+@function
+def _corner_bounds(v0, v1, v2, lo, hi, prims):
+    """Per-triangle bounds of the float32 corners, and prims = 0..T-1. Returns the index of
+    the first triangle with a non-finite coordinate, or -1."""
+    bad = -1
+    n_tri = v0.shape[0]
+    for i in range(n_tri):
+        for q in range(3):
+            a = np.float32(v0[i, q]); b = np.float32(v1[i, q]); c = np.float32(v2[i, q])
+            lo[i, q] = min(a, min(b, c))
+            hi[i, q] = max(a, max(b, c))
+            if bad < 0 and not (np.isfinite(a) and np.isfinite(b) and np.isfinite(c)):
+                bad = i
+        prims[i] = i
+    return bad
+
+
+@function
+def _bin_centroids(lo, hi, s, e, cb, c_min, c_scale, b_cnt, b_lo, b_hi):
+    """One binning pass of triangles [s, e) along the three axes of the centroid bounds
+    ``cb``: counts and boxes per bin. Returns False if every axis has zero extent."""
+    any_axis = False
+    for a in range(3):
+        ext = cb[3 + a] - cb[a]
+        c_min[a] = cb[a]
+        if ext > 0.0:
+            c_scale[a] = N_BINS * (1.0 - 1e-9) / ext
+            any_axis = True
+        else:
+            c_scale[a] = 0.0
+        for b in range(N_BINS):
+            b_cnt[a, b] = 0
+            for q in range(3):
+                b_lo[a, b, q] = np.inf
+                b_hi[a, b, q] = -np.inf
+    if any_axis:
+        for k in range(s, e):
+            x0 = lo[k, 0]; x1 = lo[k, 1]; x2 = lo[k, 2]
+            y0 = hi[k, 0]; y1 = hi[k, 1]; y2 = hi[k, 2]
+            for a in range(3):
+                if c_scale[a] == 0.0:
+                    continue
+                b = _bin(np.float64(lo[k, a]) + hi[k, a], c_min[a], c_scale[a])
+                b_cnt[a, b] += 1
+                b_lo[a, b, 0] = min(b_lo[a, b, 0], x0)
+                b_lo[a, b, 1] = min(b_lo[a, b, 1], x1)
+                b_lo[a, b, 2] = min(b_lo[a, b, 2], x2)
+                b_hi[a, b, 0] = max(b_hi[a, b, 0], y0)
+                b_hi[a, b, 1] = max(b_hi[a, b, 1], y1)
+                b_hi[a, b, 2] = max(b_hi[a, b, 2], y2)
+    return any_axis
+
+
+@function
+def _best_split(st_c, sp, c_scale, b_cnt, b_lo, b_hi, r_area, r_cnt):
+    """The cheapest SAH split over the binned axes of the range on stack slot ``sp``:
+    (axis or -1, first bin of the right child, cost)."""
+    best_axis = -1
+    best_split = 0
+    best_cost = np.inf
+    node_area = max(_area(np.float64(np.float32(st_c[sp, 9])) - np.float32(st_c[sp, 6]),
+                          np.float64(np.float32(st_c[sp, 10])) - np.float32(st_c[sp, 7]),
+                          np.float64(np.float32(st_c[sp, 11])) - np.float32(st_c[sp, 8])), 1e-300)
+    for a in range(3):
+        if c_scale[a] == 0.0:
+            continue
+        rl0 = np.inf; rl1 = np.inf; rl2 = np.inf
+        rh0 = -np.inf; rh1 = -np.inf; rh2 = -np.inf
+        rc = 0
+        for b in range(N_BINS - 1, 0, -1):
+            rc += b_cnt[a, b]
+            rl0 = min(rl0, b_lo[a, b, 0]); rl1 = min(rl1, b_lo[a, b, 1])
+            rl2 = min(rl2, b_lo[a, b, 2])
+            rh0 = max(rh0, b_hi[a, b, 0]); rh1 = max(rh1, b_hi[a, b, 1])
+            rh2 = max(rh2, b_hi[a, b, 2])
+            r_cnt[b] = rc
+            r_area[b] = _area(np.float64(rh0) - rl0, np.float64(rh1) - rl1,
+                              np.float64(rh2) - rl2) if rc > 0 else 0.0
+        ll0 = np.inf; ll1 = np.inf; ll2 = np.inf
+        lh0 = -np.inf; lh1 = -np.inf; lh2 = -np.inf
+        lc = 0
+        for b in range(0, N_BINS - 1):
+            lc += b_cnt[a, b]
+            ll0 = min(ll0, b_lo[a, b, 0]); ll1 = min(ll1, b_lo[a, b, 1])
+            ll2 = min(ll2, b_lo[a, b, 2])
+            lh0 = max(lh0, b_hi[a, b, 0]); lh1 = max(lh1, b_hi[a, b, 1])
+            lh2 = max(lh2, b_hi[a, b, 2])
+            if lc == 0 or r_cnt[b + 1] == 0:
+                continue
+            la = _area(np.float64(lh0) - ll0, np.float64(lh1) - ll1, np.float64(lh2) - ll2)
+            cost = TRAVERSAL_COST + (la * lc + r_area[b + 1] * r_cnt[b + 1]) / node_area
+            if cost < best_cost:
+                best_cost = cost
+                best_axis = a
+                best_split = b + 1
+    return best_axis, best_split, best_cost
+
+
+@function
+def _partition(lo, hi, prims, s, e, a, cmin, scale, best_split):
+    """Partition triangles [s, e) in place by bin along axis ``a``: those in bins below
+    ``best_split`` first. Returns (mid, the left child's doubled-centroid bounds (6), the
+    right child's (6))."""
+    pl0 = np.inf; pl1 = np.inf; pl2 = np.inf; ph0 = -np.inf; ph1 = -np.inf; ph2 = -np.inf
+    ql0 = np.inf; ql1 = np.inf; ql2 = np.inf; qh0 = -np.inf; qh1 = -np.inf; qh2 = -np.inf
+    i = s
+    j = e - 1
+    while True:
+        while i <= j:
+            c0 = np.float64(lo[i, 0]) + hi[i, 0]
+            c1 = np.float64(lo[i, 1]) + hi[i, 1]
+            c2 = np.float64(lo[i, 2]) + hi[i, 2]
+            c = c0 if a == 0 else (c1 if a == 1 else c2)
+            if _bin(c, cmin, scale) >= best_split:
+                break
+            pl0 = min(pl0, c0); pl1 = min(pl1, c1); pl2 = min(pl2, c2)
+            ph0 = max(ph0, c0); ph1 = max(ph1, c1); ph2 = max(ph2, c2)
+            i += 1
+        while i <= j:
+            c0 = np.float64(lo[j, 0]) + hi[j, 0]
+            c1 = np.float64(lo[j, 1]) + hi[j, 1]
+            c2 = np.float64(lo[j, 2]) + hi[j, 2]
+            c = c0 if a == 0 else (c1 if a == 1 else c2)
+            if _bin(c, cmin, scale) < best_split:
+                break
+            ql0 = min(ql0, c0); ql1 = min(ql1, c1); ql2 = min(ql2, c2)
+            qh0 = max(qh0, c0); qh1 = max(qh1, c1); qh2 = max(qh2, c2)
+            j -= 1
+        if i > j:
+            break
+        _swap(lo, hi, prims, i, j)
+        # i now holds a left triangle, j a right one; the loops above account for them
+    return i, pl0, pl1, pl2, ph0, ph1, ph2, ql0, ql1, ql2, qh0, qh1, qh2
+
+
+@inline
+def _bins_box(b_lo, b_hi, a, b0, b1):
+    """The union of the boxes of bins [b0, b1) along axis ``a``."""
+    l0 = np.inf; l1 = np.inf; l2 = np.inf; h0 = -np.inf; h1 = -np.inf; h2 = -np.inf
+    for b in range(b0, b1):
+        l0 = min(l0, b_lo[a, b, 0]); l1 = min(l1, b_lo[a, b, 1]); l2 = min(l2, b_lo[a, b, 2])
+        h0 = max(h0, b_hi[a, b, 0]); h1 = max(h1, b_hi[a, b, 1]); h2 = max(h2, b_hi[a, b, 2])
+    return l0, l1, l2, h0, h1, h2
+
+
+@function
+def _leaf_order_shading(v0, v1, v2, prims, tv0, te1, te2):
+    """The triangles in leaf order for shading: the first corner and the exact edges."""
+    for k in range(prims.shape[0]):
+        p = prims[k]
+        for q in range(3):
+            a32 = np.float32(v0[p, q]); b32 = np.float32(v1[p, q]); c32 = np.float32(v2[p, q])
+            tv0[k, q] = a32
+            te1[k, q] = np.float64(b32) - np.float64(a32)
+            te2[k, q] = np.float64(c32) - np.float64(a32)
+
+
+@function
+def _fill_blocks(v0, v1, v2, prims, leaf_s, leaf_n, n_leaf, tris, tri_ids):
+    """The corners for traversal: each leaf's blocks, lane by lane; padding lanes are a
+    triangle with three equal corners (determinant 0: never hit) and index -1."""
+    b = 0
+    for f in range(n_leaf):
+        s = leaf_s[f]
+        n = leaf_n[f]
+        for j in range(n_blocks(n) * BLOCK):
+            ln = j % BLOCK
+            if j < n:
+                p = prims[s + j]
+                tri_ids[b, PRIM_COL + ln] = s + j
+                for q in range(3):
+                    tris[b, q * BLOCK + ln] = np.float32(v0[p, q])
+                    tris[b, (3 + q) * BLOCK + ln] = np.float32(v1[p, q])
+                    tris[b, (6 + q) * BLOCK + ln] = np.float32(v2[p, q])
+            else:
+                tri_ids[b, PRIM_COL + ln] = -1
+                for q in range(9):
+                    tris[b, q * BLOCK + ln] = 0.0
+            if ln == BLOCK - 1:
+                b += 1
+
+
 @kernel
 def build_bvh(v0, v1, v2, tris, tv0, te1, te2):
     """Binned-SAH build over corners (T, 3) (float32 or float64; rounded to float32).
@@ -242,14 +424,7 @@ def build_bvh(v0, v1, v2, tris, tv0, te1, te2):
         # per-triangle bounds of the float32 corners; partitioned in place with prims
         lo = np.empty((n_tri, 3), np.float32)
         hi = np.empty((n_tri, 3), np.float32)
-        for i in range(n_tri):
-            for q in range(3):
-                a = np.float32(v0[i, q]); b = np.float32(v1[i, q]); c = np.float32(v2[i, q])
-                lo[i, q] = min(a, min(b, c))
-                hi[i, q] = max(a, max(b, c))
-                if bad < 0 and not (np.isfinite(a) and np.isfinite(b) and np.isfinite(c)):
-                    bad = i
-            prims[i] = i
+        bad = _corner_bounds(v0, v1, v2, lo, hi, prims)
         if bad >= 0:
             return nodes[:1], prims, bad, 0  # a placeholder: the tree is not valid
 
@@ -286,70 +461,9 @@ def build_bvh(v0, v1, v2, tris, tv0, te1, te2):
             best_cost = np.inf
             if not is_leaf and depth < FALLBACK_DEPTH:
                 # one binning pass for the three axes
-                any_axis = False
-                for a in range(3):
-                    ext = cb[3 + a] - cb[a]
-                    c_min[a] = cb[a]
-                    if ext > 0.0:
-                        c_scale[a] = N_BINS * (1.0 - 1e-9) / ext
-                        any_axis = True
-                    else:
-                        c_scale[a] = 0.0
-                    for b in range(N_BINS):
-                        b_cnt[a, b] = 0
-                        for q in range(3):
-                            b_lo[a, b, q] = np.inf
-                            b_hi[a, b, q] = -np.inf
-                if any_axis:
-                    for k in range(s, e):
-                        x0 = lo[k, 0]; x1 = lo[k, 1]; x2 = lo[k, 2]
-                        y0 = hi[k, 0]; y1 = hi[k, 1]; y2 = hi[k, 2]
-                        for a in range(3):
-                            if c_scale[a] == 0.0:
-                                continue
-                            b = _bin(np.float64(lo[k, a]) + hi[k, a], c_min[a], c_scale[a])
-                            b_cnt[a, b] += 1
-                            b_lo[a, b, 0] = min(b_lo[a, b, 0], x0)
-                            b_lo[a, b, 1] = min(b_lo[a, b, 1], x1)
-                            b_lo[a, b, 2] = min(b_lo[a, b, 2], x2)
-                            b_hi[a, b, 0] = max(b_hi[a, b, 0], y0)
-                            b_hi[a, b, 1] = max(b_hi[a, b, 1], y1)
-                            b_hi[a, b, 2] = max(b_hi[a, b, 2], y2)
-                    node_area = max(_area(np.float64(np.float32(st_c[sp, 9])) - np.float32(st_c[sp, 6]),
-                                          np.float64(np.float32(st_c[sp, 10])) - np.float32(st_c[sp, 7]),
-                                          np.float64(np.float32(st_c[sp, 11])) - np.float32(st_c[sp, 8])), 1e-300)
-                    for a in range(3):
-                        if c_scale[a] == 0.0:
-                            continue
-                        rl0 = np.inf; rl1 = np.inf; rl2 = np.inf
-                        rh0 = -np.inf; rh1 = -np.inf; rh2 = -np.inf
-                        rc = 0
-                        for b in range(N_BINS - 1, 0, -1):
-                            rc += b_cnt[a, b]
-                            rl0 = min(rl0, b_lo[a, b, 0]); rl1 = min(rl1, b_lo[a, b, 1])
-                            rl2 = min(rl2, b_lo[a, b, 2])
-                            rh0 = max(rh0, b_hi[a, b, 0]); rh1 = max(rh1, b_hi[a, b, 1])
-                            rh2 = max(rh2, b_hi[a, b, 2])
-                            r_cnt[b] = rc
-                            r_area[b] = _area(np.float64(rh0) - rl0, np.float64(rh1) - rl1,
-                                              np.float64(rh2) - rl2) if rc > 0 else 0.0
-                        ll0 = np.inf; ll1 = np.inf; ll2 = np.inf
-                        lh0 = -np.inf; lh1 = -np.inf; lh2 = -np.inf
-                        lc = 0
-                        for b in range(0, N_BINS - 1):
-                            lc += b_cnt[a, b]
-                            ll0 = min(ll0, b_lo[a, b, 0]); ll1 = min(ll1, b_lo[a, b, 1])
-                            ll2 = min(ll2, b_lo[a, b, 2])
-                            lh0 = max(lh0, b_hi[a, b, 0]); lh1 = max(lh1, b_hi[a, b, 1])
-                            lh2 = max(lh2, b_hi[a, b, 2])
-                            if lc == 0 or r_cnt[b + 1] == 0:
-                                continue
-                            la = _area(np.float64(lh0) - ll0, np.float64(lh1) - ll1, np.float64(lh2) - ll2)
-                            cost = TRAVERSAL_COST + (la * lc + r_area[b + 1] * r_cnt[b + 1]) / node_area
-                            if cost < best_cost:
-                                best_cost = cost
-                                best_axis = a
-                                best_split = b + 1
+                if _bin_centroids(lo, hi, s, e, cb, c_min, c_scale, b_cnt, b_lo, b_hi):
+                    best_axis, best_split, best_cost = _best_split(st_c, sp, c_scale, b_cnt, b_lo, b_hi, r_area,
+                                                                   r_cnt)
                 if best_axis >= 0 and best_cost >= n and n <= MAX_LEAF_SAH:
                     is_leaf = True
                 if best_axis < 0 and n <= MAX_LEAF_SAH:
@@ -382,47 +496,11 @@ def build_bvh(v0, v1, v2, tris, tv0, te1, te2):
             if best_axis >= 0:
                 # partition by bin; the children's boxes are the unions of their bins
                 a = best_axis
-                cmin = c_min[a]
-                scale = c_scale[a]
-                pl0 = np.inf; pl1 = np.inf; pl2 = np.inf; ph0 = -np.inf; ph1 = -np.inf; ph2 = -np.inf
-                ql0 = np.inf; ql1 = np.inf; ql2 = np.inf; qh0 = -np.inf; qh1 = -np.inf; qh2 = -np.inf
-                i = s
-                j = e - 1
-                while True:
-                    while i <= j:
-                        c0 = np.float64(lo[i, 0]) + hi[i, 0]
-                        c1 = np.float64(lo[i, 1]) + hi[i, 1]
-                        c2 = np.float64(lo[i, 2]) + hi[i, 2]
-                        c = c0 if a == 0 else (c1 if a == 1 else c2)
-                        if _bin(c, cmin, scale) >= best_split:
-                            break
-                        pl0 = min(pl0, c0); pl1 = min(pl1, c1); pl2 = min(pl2, c2)
-                        ph0 = max(ph0, c0); ph1 = max(ph1, c1); ph2 = max(ph2, c2)
-                        i += 1
-                    while i <= j:
-                        c0 = np.float64(lo[j, 0]) + hi[j, 0]
-                        c1 = np.float64(lo[j, 1]) + hi[j, 1]
-                        c2 = np.float64(lo[j, 2]) + hi[j, 2]
-                        c = c0 if a == 0 else (c1 if a == 1 else c2)
-                        if _bin(c, cmin, scale) < best_split:
-                            break
-                        ql0 = min(ql0, c0); ql1 = min(ql1, c1); ql2 = min(ql2, c2)
-                        qh0 = max(qh0, c0); qh1 = max(qh1, c1); qh2 = max(qh2, c2)
-                        j -= 1
-                    if i > j:
-                        break
-                    _swap(lo, hi, prims, i, j)
-                    # i now holds a left triangle, j a right one; the loops above account for them
-                mid = i
-                l0 = np.inf; l1 = np.inf; l2 = np.inf; h0 = -np.inf; h1 = -np.inf; h2 = -np.inf
-                for b in range(best_split):
-                    l0 = min(l0, b_lo[a, b, 0]); l1 = min(l1, b_lo[a, b, 1]); l2 = min(l2, b_lo[a, b, 2])
-                    h0 = max(h0, b_hi[a, b, 0]); h1 = max(h1, b_hi[a, b, 1]); h2 = max(h2, b_hi[a, b, 2])
+                mid, pl0, pl1, pl2, ph0, ph1, ph2, ql0, ql1, ql2, qh0, qh1, qh2 = _partition(
+                    lo, hi, prims, s, e, a, c_min[a], c_scale[a], best_split)
+                l0, l1, l2, h0, h1, h2 = _bins_box(b_lo, b_hi, a, 0, best_split)
                 _set_child_box(nodes, rec, 0, l0, l1, l2, h0, h1, h2)
-                l0 = np.inf; l1 = np.inf; l2 = np.inf; h0 = -np.inf; h1 = -np.inf; h2 = -np.inf
-                for b in range(best_split, N_BINS):
-                    l0 = min(l0, b_lo[a, b, 0]); l1 = min(l1, b_lo[a, b, 1]); l2 = min(l2, b_lo[a, b, 2])
-                    h0 = max(h0, b_hi[a, b, 0]); h1 = max(h1, b_hi[a, b, 1]); h2 = max(h2, b_hi[a, b, 2])
+                l0, l1, l2, h0, h1, h2 = _bins_box(b_lo, b_hi, a, best_split, N_BINS)
                 _set_child_box(nodes, rec, 1, l0, l1, l2, h0, h1, h2)
             else:
                 # deep (or all centroids equal): halve the range, which bounds the depth
@@ -445,36 +523,9 @@ def build_bvh(v0, v1, v2, tris, tv0, te1, te2):
                 st_c[sp, 6 + q] = nodes[rec, q]
             sp += 1
 
-    # triangles in leaf order (lo and hi are no longer needed): the first corner and the
-    # exact edges for shading
-    for k in range(n_tri):
-        p = prims[k]
-        for q in range(3):
-            a32 = np.float32(v0[p, q]); b32 = np.float32(v1[p, q]); c32 = np.float32(v2[p, q])
-            tv0[k, q] = a32
-            te1[k, q] = np.float64(b32) - np.float64(a32)
-            te2[k, q] = np.float64(c32) - np.float64(a32)
-    # the corners for traversal: each leaf's blocks, lane by lane; padding lanes are a
-    # triangle with three equal corners (determinant 0: never hit) and index -1
-    b = 0
-    for f in range(n_leaf):
-        s = leaf_s[f]
-        n = leaf_n[f]
-        for j in range(n_blocks(n) * BLOCK):
-            ln = j % BLOCK
-            if j < n:
-                p = prims[s + j]
-                tri_ids[b, PRIM_COL + ln] = s + j
-                for q in range(3):
-                    tris[b, q * BLOCK + ln] = np.float32(v0[p, q])
-                    tris[b, (3 + q) * BLOCK + ln] = np.float32(v1[p, q])
-                    tris[b, (6 + q) * BLOCK + ln] = np.float32(v2[p, q])
-            else:
-                tri_ids[b, PRIM_COL + ln] = -1
-                for q in range(9):
-                    tris[b, q * BLOCK + ln] = 0.0
-            if ln == BLOCK - 1:
-                b += 1
+    # triangles in leaf order (lo and hi are no longer needed), then their traversal blocks
+    _leaf_order_shading(v0, v1, v2, prims, tv0, te1, te2)
+    _fill_blocks(v0, v1, v2, prims, leaf_s, leaf_n, n_leaf, tris, tri_ids)
     nodes4 = np.empty((max(1, n_rec), NODE_WIDTH), np.float32)
     n4 = _collapse(nodes, links, nodes4, np.empty((3 * MAX_DEPTH + 8, 2), np.int64), np.empty(4, np.int64),
                    np.empty(4, np.int64), np.empty((4, 6), np.float32))

@@ -4,26 +4,12 @@ import math
 
 import numpy as np
 import pytest
-from helpers import RHO, check_luminance, ground_points, look_at, plane_scene, render_lum
+from helpers import RHO, blender_spot_mask, check_luminance, ground_points, look_at, plane_scene, render_lum
 
 from spectral_gi.core import constants as C
 from spectral_gi.core.integrators import render as R
 from spectral_gi.core.scene import (
     Light, SceneError, load, save, validate)
-
-def smoothstep(x):
-    x = np.clip(x, 0, 1)
-    return x * x * (3 - 2 * x)
-
-
-def blender_spot_mask(t, spot_size, blend):
-    """Cycles' spot attenuation: 0 at or below cos(spot_size/2), then a smoothstep over
-    (1 - cos½)·blend of the cosine (intern/cycles scene/light.cpp, kernel/light/spot.h)."""
-    ch = math.cos(spot_size / 2)
-    if blend == 0:
-        return (t > ch).astype(float)
-    return np.where(t > ch, smoothstep((t - ch) / ((1 - ch) * blend)), 0.0)
-
 
 def point_expected(sc, pos, intensity, mask=None):
     """ρ/π · I · mask · cos θ / d² averaged over each pixel."""

@@ -25,7 +25,7 @@ import numpy as np
 from spectral_gi.core import constants as C
 
 T_MIN_REL = 1e-9
-CHUNK = 1 << 18  # rays × triangles per block of the brute-force test
+CHUNK = 1 << 15  # ray–triangle pairs per block of the brute-force test (its arrays stay in cache)
 
 
 class Triangles:

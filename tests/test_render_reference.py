@@ -99,7 +99,7 @@ def glossy_box(spp, seed):
 SCENES = {"cornell_plastic": cornell_plastic, "glossy_box": glossy_box}
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _reference(name):
     return render_reference(SCENES[name](REF_SPP, 0), spp=REF_SPP, seed=1009)
 
@@ -116,20 +116,30 @@ def _full(name, brighter=1.0):
 
 def _disagreements(full, ref):
     """The ways in which the product's image ``full`` (a Developed film) and the reference
-    disagree beyond chance (empty: they agree), and the statistics."""
+    disagree beyond chance (empty: they agree), and the statistics.
+
+    z_i = (P_i − R_i) / s_i per pixel, s_i² = var P_i + var R_i. The product's pixels are
+    independent; the reference's are not quite (the pixels of a batch share its wavelength
+    sets), so the spread of mean z under agreement is measured, not assumed to be 1/√n:
+    var(mean z) = Σ var P_i / (n s_i)² + var over batches of (mean_i R_b,i / s_i) / B.
+    """
     se = np.sqrt(full.variance + ref.variance)
     ok = se > 0
     z = (full.luminance - ref.luminance)[ok] / se[ok]
-    n = full.luminance.size
-    image_se = np.sqrt(full.variance.sum() / n ** 2 + ref.image_mean_stderr ** 2)
+    n = z.size
+    b = ref.batch_luminance.shape[0]
+    ref_part = (ref.batch_luminance[:, ok] / se[ok]).mean(axis=1)
+    mean_z_sd = np.sqrt(np.sum(full.variance[ok] / se[ok] ** 2) / n ** 2 + ref_part.var(ddof=1) / b)
+    pixels = full.luminance.size
+    image_se = np.sqrt(full.variance.sum() / pixels ** 2 + ref.image_mean_stderr ** 2)
     image_z = (full.luminance.mean() - ref.image_mean) / image_se
-    stats = {"pixels": int(ok.sum()), "mean z": float(z.mean()), "mean z²": float(np.mean(z * z)),
-             "|z| > 3.5": float(np.mean(np.abs(z) > 3.5)), "max |z|": float(np.abs(z).max()),
-             "image z": float(image_z)}
+    stats = {"pixels": int(n), "mean z": float(z.mean()), "sd of mean z": float(mean_z_sd),
+             "mean z²": float(np.mean(z * z)), "|z| > 3.5": float(np.mean(np.abs(z) > 3.5)),
+             "max |z|": float(np.abs(z).max()), "image z": float(image_z)}
     bad = []
-    # mean of z ~ N(0, 1/n); mean of z² ~ 1 (a little below where the product's stratified
-    # sampler makes its variance estimate conservative); few pixels in the tails
-    if not abs(z.mean()) < 4.0 / np.sqrt(z.size):
+    # mean z ~ N(0, sd²); mean z² ~ 1 (a little below where the product's stratified sampler
+    # makes its variance estimate conservative); few pixels in the tails
+    if not abs(z.mean()) < 4.0 * mean_z_sd:
         bad.append("mean z")
     if not 0.6 < np.mean(z * z) < 1.6:
         bad.append("mean z²")
@@ -179,6 +189,45 @@ def test_nee_and_mis_agree_with_bsdf_sampling_in_the_same_kernel():
     n = full.luminance.size
     image_se = np.sqrt(full.variance.sum() + naive.variance.sum()) / n
     assert abs(full.luminance.mean() - naive.luminance.mean()) < 4.0 * image_se
+
+
+def _light_in_view(axis_u, kind=C.LIGHT_RECT):
+    """A visible area light (luminance 100, half-axes axis_u and (0.3, 0, 0)) 2 m in front of a
+    pinhole camera looking along +Y, on black: the image is its coverage of the pixels."""
+    spectra = core.SpectrumTable.empty()
+    e = spectra.add("flat", flat_emission(), C.SPECTRUM_UNBOUNDED)
+    to_world = np.eye(4)
+    to_world[:3, 0], to_world[:3, 1], to_world[:3, 2] = (1, 0, 0), (0, 0, 1), (0, -1, 0)
+    # cross(axis_u, axis_v) must point at the camera (−Y): axis_v = (0.3, 0, 0), axis_u along −Z
+    light = core.Light("area", kind, (0.0, 2.0, 0.0), axis_u, (0.3, 0.0, 0.0), e, 100.0, visible=True)
+    return core.Scene(spectra=spectra, lights=[light], camera=core.Camera(to_world, width=16, height=16, lens_mm=50.0),
+                      settings=core.RenderSettings(spp=2048, max_depth=0, seed=4, filter=C.FILTER_BOX,
+                                                   sampler=C.SAMPLER_INDEPENDENT))
+
+
+@pytest.mark.parametrize("kind", [C.LIGHT_RECT, C.LIGHT_ELLIPSE])
+def test_an_area_light_seen_directly_has_the_reference_shape(kind):
+    """The shape of a visible rectangle or ellipse light, axes orthogonal."""
+    sc = _light_in_view((0.0, 0.0, -0.2), kind)
+    ref = render_reference(sc, seed=5, batches=32)
+    full = core.render(sc, threads=2)[0].develop()
+    bad, stats = _disagreements(full, ref)
+    assert not bad, (bad, stats)
+
+
+@pytest.mark.xfail(strict=True, raises=AssertionError, reason="product bug: core/kernels/lights.py hit_light takes a hit's coordinates "
+                   "as q·u/|u|² and q·v/|v|², right only for orthogonal axes, while sample_light, the light's "
+                   "area and scene validation take the parallelogram c + a u + b v of any two axes")
+@pytest.mark.parametrize("kind", [C.LIGHT_RECT, C.LIGHT_ELLIPSE])
+def test_an_area_light_with_skewed_axes_has_the_reference_shape(kind):
+    """Axes that are not orthogonal (validation accepts them, and the add-on exports them for an
+    area light under a sheared parent): the light is the parallelogram, or the affine image of
+    a disc, spanned by its half-axes, as the product samples it for next-event estimation."""
+    sc = _light_in_view((0.15, 0.0, -0.2), kind)
+    ref = render_reference(sc, seed=5, batches=32)
+    full = core.render(sc, threads=2)[0].develop()
+    bad, stats = _disagreements(full, ref)
+    assert not bad, (bad, stats)
 
 
 def test_next_event_must_be_a_boolean():

@@ -40,10 +40,11 @@ class Triangles:
             v1.append(p[idx[:, 1]])
             v2.append(p[idx[:, 2]])
             mat.append(np.asarray(mesh.material, dtype=np.int64))
-        self.v0 = np.concatenate(v0)
-        self.e1 = np.concatenate(v1) - self.v0
-        self.e2 = np.concatenate(v2) - self.v0
-        self.material = np.concatenate(mat)
+        empty = [np.zeros((0, 3))]
+        self.v0 = np.concatenate(v0 or empty)
+        self.e1 = np.concatenate(v1 or empty) - self.v0
+        self.e2 = np.concatenate(v2 or empty) - self.v0
+        self.material = np.concatenate(mat or [np.zeros(0, np.int64)])
         n = np.cross(self.e1, self.e2)
         self.area = 0.5 * np.linalg.norm(n, axis=1)
         keep = self.area > 0.0
@@ -91,7 +92,9 @@ class Triangles:
 
 class AreaLights:
     """The scene's rectangle and ellipse lights (``core.scene.Light``): centre c, half-axes
-    u and v; the front is the side of u × v; ``two_sided`` emits from both sides."""
+    u and v, i.e. the points c + a u + b v with |a|, |b| ≤ 1 (rectangle; a parallelogram when
+    u and v are not orthogonal, which the contract allows) or a² + b² ≤ 1 (ellipse); the
+    front is the side of u × v; ``two_sided`` emits from both sides."""
 
     def __init__(self, scene):
         self.lights = []
@@ -115,9 +118,9 @@ class AreaLights:
                 t = ((c - o) @ nrm) / den
             ok = np.isfinite(t) & (t > 0.0) & (t < t_max)
             q = o + np.where(ok, t, 0.0)[:, None] * d - c
-            # coordinates along the half-axes (u and v are orthogonal in the contract's lights)
-            a = (q @ u) / (u @ u)
-            b = (q @ v) / (v @ v)
+            # the hit's coordinates (a, b) in q = a u + b v (u and v need not be orthogonal)
+            gram = np.array([[u @ u, u @ v], [u @ v, v @ v]])
+            a, b = np.linalg.solve(gram, np.stack([q @ u, q @ v])) if q.size else (q[:, 0], q[:, 0])
             if li.kind == C.LIGHT_RECT:
                 ok &= (np.abs(a) <= 1.0) & (np.abs(b) <= 1.0)
             else:

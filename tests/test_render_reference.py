@@ -11,7 +11,8 @@ Two scenes: the Cornell box with a rough-plastic white and an emissive ceiling (
 between a glossy lobe and emissive triangles), and a glossy box lit by an analytic area
 light seen by the camera and a two-sided emissive panel, with an anisotropic rough gold
 (measured η, κ), a Ward surface, a Gaussian pixel filter, a non-square image and a
-deeper max_depth.
+deeper max_depth. And, cheaply, area lights seen directly (their shape on the film),
+with orthogonal and with skewed half-axes.
 """
 import functools
 

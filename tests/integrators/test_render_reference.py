@@ -1,4 +1,4 @@
-"""The path tracer (NEE + MIS) against the independent reference integrator (tests/reference).
+"""The path tracer (NEE + MIS) against the independent reference integrator (tests/oracles/reference).
 
 The reference shares no transport code with the product (its own camera rays, brute-force
 ray casting, random numbers, wavelength sampling, film and Russian roulette; BSDF sampling
@@ -19,7 +19,7 @@ import functools
 import numpy as np
 import pytest
 from helpers import flat_emission, flat_reflectance
-from reference import render_reference
+from oracles.reference import render_reference
 
 from spectral_gi import core
 from spectral_gi.core import constants as C
@@ -216,7 +216,8 @@ def test_an_area_light_seen_directly_has_the_reference_shape(kind):
     assert not bad, (bad, stats)
 
 
-@pytest.mark.xfail(strict=True, raises=AssertionError, reason="product bug: core/kernels/lights.py hit_light takes a hit's coordinates "
+@pytest.mark.xfail(strict=True, raises=AssertionError,
+                   reason="product bug: core/lights/kernel.py hit_light takes a hit's coordinates "
                    "as q·u/|u|² and q·v/|v|², right only for orthogonal axes, while sample_light, the light's "
                    "area and scene validation take the parallelogram c + a u + b v of any two axes")
 @pytest.mark.parametrize("kind", [C.LIGHT_RECT, C.LIGHT_ELLIPSE])

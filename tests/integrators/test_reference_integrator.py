@@ -1,6 +1,6 @@
-"""The independent reference integrator (tests/reference) against closed forms.
+"""The independent reference integrator (tests/oracles/reference) against closed forms.
 
-The reference is what tests/test_render_reference.py holds the product to, so it is
+The reference is what tests/integrators/test_render_reference.py holds the product to, so it is
 checked on its own first: the furnace (every path length at once), an area light over a
 plane (one bounce, emitter found by BSDF sampling), and emitters seen directly (its
 camera conventions, pixel filter and one- and two-sided emission).
@@ -8,7 +8,7 @@ camera conventions, pixel filter and one- and two-sided emission).
 import numpy as np
 import pytest
 from helpers import disk_over_plane_scene, flat_emission, furnace_scene, look_at
-from reference import render_reference
+from oracles.reference import render_reference
 
 from spectral_gi import core
 from spectral_gi.core import constants as C
@@ -123,7 +123,7 @@ def test_pixel_filters_weigh_the_emitter_edge(filt):
     """Along a row inside the quad each pixel is the filter's mass between the quad's edges
     (the filter's cdf at their offsets from the pixel centre): the smooth filters are sampled
     with their own densities."""
-    from reference.camera import _filter_shape
+    from oracles.reference.camera import _filter_shape
 
     fw = 2.0
     ref = render_reference(_panel_scene(False, True, filt, fw=fw), spp=512, seed=16, batches=16)

@@ -216,10 +216,6 @@ def test_an_area_light_seen_directly_has_the_reference_shape(kind):
     assert not bad, (bad, stats)
 
 
-@pytest.mark.xfail(strict=True, raises=AssertionError,
-                   reason="product bug: core/lights/kernel.py hit_light takes a hit's coordinates "
-                   "as q·u/|u|² and q·v/|v|², right only for orthogonal axes, while sample_light, the light's "
-                   "area and scene validation take the parallelogram c + a u + b v of any two axes")
 @pytest.mark.parametrize("kind", [C.LIGHT_RECT, C.LIGHT_ELLIPSE])
 def test_an_area_light_with_skewed_axes_has_the_reference_shape(kind):
     """Axes that are not orthogonal (validation accepts them, and the add-on exports them for an

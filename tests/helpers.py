@@ -1,4 +1,5 @@
 """Small scene builders shared by the core tests."""
+import math
 import struct
 import zlib
 
@@ -147,3 +148,17 @@ def check_luminance(d, expected, rel):
     err = np.abs(d.luminance - expected)
     assert np.all(err <= rel * expected.max() + 4.5 * np.sqrt(d.variance)), \
         (err.max(), expected.max(), np.unravel_index(err.argmax(), err.shape))
+
+
+def smoothstep(x):
+    x = np.clip(x, 0, 1)
+    return x * x * (3 - 2 * x)
+
+
+def blender_spot_mask(t, spot_size, blend):
+    """Cycles' spot attenuation: 0 at or below cos(spot_size/2), then a smoothstep over
+    (1 - cos½)·blend of the cosine (intern/cycles scene/light.cpp, kernel/light/spot.h)."""
+    ch = math.cos(spot_size / 2)
+    if blend == 0:
+        return (t > ch).astype(float)
+    return np.where(t > ch, smoothstep((t - ch) / ((1 - ch) * blend)), 0.0)

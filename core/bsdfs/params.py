@@ -56,6 +56,7 @@ import math
 import numpy as np
 
 from .. import constants as C
+from ..sampling.lobes import digon_cos_moment
 
 P_SIZE = 16
 
@@ -201,7 +202,6 @@ def lafortune_lobe_albedo_bound(lobes, wo):
     with F Arvo's double-axis moment over the digon (items 10a, 50). For a non-integer n
     F_⌊n⌋ ≥ F_n is used (cosⁿ decreases with n), so the bound is conservative.
     """
-    from ..sampling.lobes import digon_cos_moment
     total = 0.0
     for cx, cy, cz, n in lobes:
         vx, vy, vz = cx * wo[0], cy * wo[1], cz * wo[2]

@@ -19,7 +19,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import constants as C
-from ..colour import XYZ_to_Lab, XYZ_to_Luv, XYZ_to_sRGB_linear, XYZ_to_xyY, chromatic_adaptation_Bradford
+from ..colour import XYZ_to_Lab, XYZ_to_Luv, XYZ_to_RGB, XYZ_to_sRGB_linear, XYZ_to_xyY, chromatic_adaptation_Bradford
+from ..colour.illuminants import CCS_ILLUMINANTS
+from ..io.atomic import write_bytes
 
 D65_XY = (0.3127, 0.3290)
 
@@ -67,7 +69,6 @@ def photometric_y_sums(sums):
 
 def d65_white_xy(observer="1931"):
     """xy of CIE D65 for ``observer`` (CIE 015:2018; 1931: the rounded (0.3127, 0.3290))."""
-    from ..colour.illuminants import CCS_ILLUMINANTS
 
     return tuple(float(v) for v in CCS_ILLUMINANTS[check_observer(observer)]["D65"])
 
@@ -83,7 +84,6 @@ def XYZ_to_output(XYZ, colour_space="rec709", observer="1931"):
     the 10° D65 white to the 2° one, so that a D65-white surface stays neutral (a convention:
     no matrix maps one observer's XYZ to the other's exactly). xyz returns XYZ unchanged.
     """
-    from ..colour import XYZ_to_RGB
 
     cs = check_colour_space(colour_space)
     if cs == "xyz":
@@ -146,8 +146,6 @@ class Film:
         """Write the film (a checkpoint to resume from) as one .npz, atomically."""
         import io
         from pathlib import Path
-
-        from ..io.atomic import write_bytes
 
         buf = io.BytesIO()
         np.savez_compressed(buf, format=np.array(FILM_FORMAT), version=np.array(FILM_VERSION),

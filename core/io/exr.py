@@ -20,6 +20,8 @@ Channels of a render:
 import numpy as np
 
 from .atomic import atomic_path
+from .. import constants as C
+from ..film import CHROMATICITIES
 
 try:  # OpenEXR is a declared dependency; import lazily so core imports without it.
     import OpenEXR as _exr
@@ -78,8 +80,6 @@ def write_render(path, developed, attributes=None, spectral=None):
     spectral: optional (wavelengths_nm[B], radiance[H, W, B]) written as emissive
     channels of the Fichet et al. 2021 layout (spectral radiance, W/(m² sr nm)).
     """
-    from .. import constants as C
-    from ..film import CHROMATICITIES
 
     space = getattr(developed, "colour_space", "rec709")
     rgb = developed.output if getattr(developed, "output", None) is not None else developed.rgb

@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import constants as C
+from ..spectra.uplift import emission_from_samples, reflectance_from_samples
 
 VISIBLE = (380.0, 780.0)  # nm the file must cover
 PERCENT_ABOVE = 1.05  # a reflectance whose peak is above this is read as percent
@@ -50,7 +51,6 @@ class SpectrumFile:
 
     def coeffs(self, n_coeffs=C.N_COEFFS_DEFAULT):
         """Fourier (trigonometric-moment) coefficients for a core SpectrumTable row."""
-        from ..spectra.uplift import emission_from_samples, reflectance_from_samples
 
         if self.kind == "reflectance":
             return reflectance_from_samples(self.wavelengths, self.values, n_coeffs)

@@ -257,8 +257,16 @@ def hit_light(kind, geo, prof, li, two_sided, ox, oy, oz, dx, dy, dz, tmax):
         hz = oz + t * dz - geo[li, 2]
         uu = geo[li, 3] * geo[li, 3] + geo[li, 4] * geo[li, 4] + geo[li, 5] * geo[li, 5]
         vv = geo[li, 6] * geo[li, 6] + geo[li, 7] * geo[li, 7] + geo[li, 8] * geo[li, 8]
-        a = (hx * geo[li, 3] + hy * geo[li, 4] + hz * geo[li, 5]) / uu
-        b = (hx * geo[li, 6] + hy * geo[li, 7] + hz * geo[li, 8]) / vv
+        uv = geo[li, 3] * geo[li, 6] + geo[li, 4] * geo[li, 7] + geo[li, 5] * geo[li, 8]
+        hu = hx * geo[li, 3] + hy * geo[li, 4] + hz * geo[li, 5]
+        hv = hx * geo[li, 6] + hy * geo[li, 7] + hz * geo[li, 8]
+        if uv == 0.0:
+            a = hu / uu
+            b = hv / vv
+        else:  # skewed axes (a light under a sheared parent): solve h = a u + b v
+            g = uu * vv - uv * uv
+            a = (hu * vv - hv * uv) / g
+            b = (hv * uu - hu * uv) / g
         if kind == C.LIGHT_RECT:
             if abs(a) > 1.0 or abs(b) > 1.0:
                 return np.inf, 0.0, 0.0

@@ -40,6 +40,8 @@ import re
 from pathlib import Path
 
 import numpy as np
+from ..scene import Profile
+from ..io.presets import PRESETS_DIR
 
 PROFILE_SUFFIXES = (".ies", ".ldt")
 
@@ -325,7 +327,6 @@ def read_ldt(path):
 
 def read_profile(path, name=None):
     """A :class:`core.scene.Profile` from an ``.ies`` or ``.ldt`` file (by its suffix)."""
-    from ..scene import Profile
 
     path = Path(path)
     suffix = path.suffix.lower()
@@ -387,7 +388,6 @@ def flux(profile, mask=None, n=20000):
 
 def preset_profiles():
     """{name: path} of the sample profiles shipped in presets/ies (sorted by name)."""
-    from ..io.presets import PRESETS_DIR
 
     folder = PRESETS_DIR / "ies"
     if not folder.is_dir():

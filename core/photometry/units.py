@@ -45,6 +45,9 @@ import numpy as np
 from .. import constants as C
 from ..colour import luminance_rec709
 from .quantities import luminous_efficacy
+from ..spectra import library, moments
+from ..spectra.uplift import emission_from_rgb, emission_from_samples
+from ..spectra.fit import emission_XYZ
 
 BLENDER_LM_PER_W = C.K_M
 
@@ -213,7 +216,6 @@ def light_photometric(kind, unit, value, *, rgb=(1.0, 1.0, 1.0), area_m2=None, s
 
 def light_spectrum_names(source):
     """Choices for a light's spectrum ``source``: CIE illuminants (without LEDs) or CIE LED series."""
-    from ..spectra import library
 
     if source == "illuminant":
         return [n for n in library.illuminant_names() if not n.startswith("LED-")]
@@ -229,8 +231,6 @@ def light_emission_coeffs(source, *, rgb=(1.0, 1.0, 1.0), temperature=6500.0, na
     source "rgb": the uplift of ``rgb``; "blackbody": Planck's law at ``temperature`` K;
     "illuminant" / "led": the CIE table ``name``.
     """
-    from ..spectra import library, moments
-    from ..spectra.uplift import emission_from_rgb, emission_from_samples
 
     if source == "rgb":
         return emission_from_rgb(tuple(float(x) for x in np.asarray(rgb).reshape(-1)[:3]), n_coeffs)
@@ -253,7 +253,6 @@ def scene_white_xy(scene):
 
     For white-balancing a render to its main light (develop(white_balance=...)).
     """
-    from ..spectra.fit import emission_XYZ
 
     emitters = [(li.luminance if li.kind in (C.LIGHT_RECT, C.LIGHT_ELLIPSE) else
                  max(getattr(li, "intensity", 0.0), getattr(li, "illuminance", 0.0)), li.spectrum)

@@ -32,6 +32,8 @@ from .checks import check_vec3 as _check_vec3
 from .checks import fail as _fail
 from .textures import Texture
 from .textures import check as _check_textures
+from ..spectra import moments
+from ..film import COLOUR_SPACES, OBSERVERS
 
 
 @dataclass
@@ -336,7 +338,6 @@ def validate(scene: Scene) -> Scene:
 
 
 def _validate_spectra(scene):
-    from ..spectra import moments
 
     sp = scene.spectra
     n_spec = len(sp)
@@ -589,7 +590,6 @@ def _validate_settings(s):
     _check_number("settings.noise_target", s.noise_target, lo=0.0, hi=1e6)
     if not isinstance(s.next_event, (bool, np.bool_)):
         _fail("settings.next_event", f"expected true or false, got {s.next_event!r}")
-    from ..film import COLOUR_SPACES, OBSERVERS
 
     if s.colour_space not in COLOUR_SPACES:
         _fail("settings.colour_space", f"unknown colour space {s.colour_space!r} (one of {', '.join(COLOUR_SPACES)})")

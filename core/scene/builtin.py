@@ -3,8 +3,8 @@ import numpy as np
 
 from .. import constants as C
 from ..io import presets
-from . import Camera, Material, Mesh, RenderSettings, Scene, SpectrumTable
-from ..spectra import uplift
+from . import Camera, Light, Material, Mesh, RenderSettings, Scene, SpectrumTable
+from ..spectra import library, uplift
 
 # The published light spectrum is relative. We scale it to this luminance (cd/m²),
 # which exposes the box at 0 EV in the preview (white walls around 0.5 in linear
@@ -82,7 +82,6 @@ def cornell_box(width=256, height=256, spp=64, max_depth=64, seed=0, n_coeffs=C.
 def light_spectrum(spec, wavelengths):
     """Emission shape for a light named ``blackbody:<K>`` (e.g. ``blackbody:3000``) or a CIE
     illuminant (``D65``, ``A``, ``F11``/``FL11``, ``LED-B3``, …)."""
-    from ..spectra import library
 
     text = str(spec).strip()
     if text.lower().startswith("blackbody:"):
@@ -104,8 +103,6 @@ def colorchecker(light="blackbody:3000", width=360, height=240, spp=64, max_dept
     (see :func:`light_spectrum`) at ``luminance`` cd/m². Sixteen coefficients keep narrow
     lines such as F11's (ΔE00 under F11 0.07 with 16, 0.34 with 12).
     """
-    from . import Light
-    from ..spectra import library
 
     g = np.arange(C.LAMBDA_MIN, C.LAMBDA_MAX + 1.0)
     spectra = SpectrumTable.empty(n_coeffs)

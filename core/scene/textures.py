@@ -10,6 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import constants as C
+from .checks import check_array as _check_array, check_number as _check_number
 
 INTERPOLATIONS = ("closest", "linear")
 EXTENSIONS = ("repeat", "extend", "clip")
@@ -35,7 +36,6 @@ def check(scene, fail):
     """Validate ``scene.textures``, the materials' texture fields and the UVs they need.
 
     ``fail(field, problem)`` raises (core.scene's SceneError)."""
-    from .checks import check_array as _check_array, check_number as _check_number
 
     textures = scene.textures
     if not isinstance(textures, list):

@@ -29,6 +29,7 @@ import functools
 import numpy as np
 
 from .. import constants as C
+from ..io import presets
 
 
 
@@ -52,7 +53,6 @@ def _grid():
 @functools.lru_cache(maxsize=1)
 def warp_table():
     """φ at every wavelength of the 1 nm grid (float64[N_LAMBDA]); linear in between."""
-    from ..io import presets
     wl, xyz = presets.cmfs("1931")
     g = _grid()
     s = np.interp(g, wl, xyz.sum(axis=1), left=0.0, right=0.0)

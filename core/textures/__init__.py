@@ -30,6 +30,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..scene.textures import TEXTURE_FIELDS
+from .kernel import EXT_TAGS, INTERP_TAGS
+from ..io import presets
+from ..spectra import moments
 
 INFO_SIZE = 6  # columns of the kernel's info table: offset, width, height, channels, interpolation, extension
 
@@ -39,7 +42,6 @@ def pack(textures):
 
     Texel (i, j) (column, row from the top) channel c of texture t is
     data[info[t, 0] + (j·W + i)·C + c]. An empty list gives one dummy texel and row."""
-    from .kernel import EXT_TAGS, INTERP_TAGS
 
     if not textures:
         return np.zeros(1, np.float32), np.zeros((1, INFO_SIZE), np.int64)
@@ -121,8 +123,6 @@ def triangle_frames(scene, prims):
 
 def reflectance_basis():
     """(3, N_LAMBDA) the Mallett–Yuksel reflectance basis rows B_r, B_g, B_b on the renderer's grid."""
-    from ..io import presets
-    from ..spectra import moments
 
     wl, basis = presets.mallett2019_basis()
     grid = moments.grid()

@@ -4,26 +4,14 @@ import math
 
 import numpy as np
 import pytest
-from helpers import RHO, check_luminance, ground_points, look_at, plane_scene, render_lum
+from helpers import (
+    RHO, blender_spot_mask, check_luminance, disk_over_plane_scene, ground_points, look_at, plane_scene, render_lum)
 
 from spectral_gi.core import constants as C
+from spectral_gi.core.film import develop
 from spectral_gi.core.integrators import render as R
 from spectral_gi.core.scene import (
     Light, SceneError, load, save, validate)
-
-def smoothstep(x):
-    x = np.clip(x, 0, 1)
-    return x * x * (3 - 2 * x)
-
-
-def blender_spot_mask(t, spot_size, blend):
-    """Cycles' spot attenuation: 0 at or below cos(spot_size/2), then a smoothstep over
-    (1 - cos½)·blend of the cosine (intern/cycles scene/light.cpp, kernel/light/spot.h)."""
-    ch = math.cos(spot_size / 2)
-    if blend == 0:
-        return (t > ch).astype(float)
-    return np.where(t > ch, smoothstep((t - ch) / ((1 - ch) * blend)), 0.0)
-
 
 def point_expected(sc, pos, intensity, mask=None):
     """ρ/π · I · mask · cos θ / d² averaged over each pixel."""
@@ -194,3 +182,20 @@ def test_new_light_fields_survive_save_and_load(tmp_path):
         for f in ("kind", "radius", "intensity", "spot_angle", "spot_blend", "illuminance", "angle", "visible"):
             assert getattr(a, f) == getattr(b, f), f
         np.testing.assert_array_equal(a.direction, b.direction)
+
+
+@pytest.mark.statistical
+@pytest.mark.parametrize("kind", [C.LIGHT_RECT, C.LIGHT_ELLIPSE])
+def test_area_light_with_skewed_axes_is_hit_where_it_is_sampled(kind):
+    """A parallelogram (or the affine image of a disc) spanned by two axes that are not at right
+    angles, as an area light under a sheared parent has: the light that BSDF sampling hits is the
+    light that next-event estimation samples, so both estimators agree on the lit plane."""
+    means = []
+    for nee in (True, False):
+        sc = disk_over_plane_scene(radius=0.3, height=1.0, kind=kind, spp=512, res=5)
+        sc.lights[0].axis_u = (0.3, 0.3, 0.0)  # with axis_v (0.3, 0, 0): skewed by 45°
+        sc.settings.next_event = nee
+        d = develop(R.render(sc, threads=2)[0].sums)
+        means.append((d.luminance.mean(), np.sqrt(d.variance.sum()) / d.luminance.size))
+    (a, sa), (b, sb) = means
+    assert abs(a - b) < 4.0 * np.hypot(sa, sb), means

@@ -364,7 +364,7 @@ def test_profiled_light_over_a_lambert_plane(radius, axis_u, nee):
 
 @pytest.mark.statistical
 def test_profiled_spot_is_profile_times_mask():
-    from test_lights import blender_spot_mask
+    from helpers import blender_spot_mask
 
     size, blend = math.radians(80), 0.4
     pr = P.read_profile(IES / "quadrant.ldt")

@@ -327,8 +327,9 @@ def _cube_case(name, title, rho, flux, side, per_side, notes):
     I = float(flux) / (4 * math.pi)
     light = Light("point", C.LIGHT_POINT, src, (0, 0, 0), (0, 0, 0), e, 0.0, intensity=I)
     p, nn, w, face = room_points(size, per_side)
+    cam = Camera(_look_at((0.1 * side, 0.1 * side, 0.5 * side), (side, side, 0.4 * side)))
     scene = Scene(meshes=[room_mesh("cube", size)], spectra=spectra, materials=_materials(rho, spectra),
-                  lights=[light], camera=Camera(_look_at((0.1 * side, 0.1 * side, 0.5 * side), (side, side, 0.4 * side))))
+                  lights=[light], camera=cam)
     area = 6.0 * side * side
     ed = point_source_illuminance(I, src, p, nn)
     return ReferenceCase(name, title, scene, p, nn, w, expected_direct=ed,

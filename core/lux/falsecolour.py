@@ -251,7 +251,7 @@ def mpl_colormap_and_norm(vmin, vmax, steps=DEFAULT_STEPS, scale="linear", color
 def draw_legend(fig, cax, vmin, vmax, steps=DEFAULT_STEPS, scale="linear", unit="lx", colormap_name="viridis",
                 orientation="vertical"):
     """A colour bar on axes ``cax`` labelled with the band boundaries in ``unit``; returns it."""
-    mpl = _require_matplotlib()
+    _require_matplotlib()
     import matplotlib.cm
 
     cmap, norm = mpl_colormap_and_norm(vmin, vmax, steps, scale, colormap_name)

@@ -38,8 +38,13 @@ from .points import LuxError, check_values, write_results_csv
 
 SUMMARY_FORMAT = "spectral_gi lux summary"
 SUMMARY_VERSION = 1
-A4_LANDSCAPE_IN = (297.0 / 25.4, 210.0 / 25.4)
+A4_LANDSCAPE_MM = (297.0, 210.0)
 REPORT_DPI = 150.0
+
+
+def report_size_px(dpi: float = REPORT_DPI) -> tuple[int, int]:
+    """The report PNG's (width, height) in pixels: A4 landscape at ``dpi``, rounded to whole pixels."""
+    return tuple(int(round(mm / 25.4 * dpi)) for mm in A4_LANDSCAPE_MM)
 
 WEIGHTING = {
     "grid": "equal (grid cells of equal area)",
@@ -183,7 +188,9 @@ def _fmt(v, digits=None):
 
 def statistics_rows(surface, st: SurfaceStatistics) -> list[tuple[str, str]]:
     """The rows of the report's statistics table."""
-    pct = (lambda x: "–" if x is None else f"{100 * x:.2f} %")
+    def pct(x):
+        return "–" if x is None else f"{100 * x:.2f} %"
+
     which = "maintained" if st.maintained else "initial"
     return [
         (f"Ē ({which}, lx)", _fmt(st.mean)),
@@ -260,7 +267,8 @@ def render_report(surface: CalculationSurface, lux, std_error=None, samples=None
     st = statistics(surface, lux, std_error, samples, maintained)
     lums = check_luminaires(luminaires)
     vmin, vmax = fc._range(e, vmin, vmax, scale)
-    fig = fc.new_figure(*A4_LANDSCAPE_IN, dpi=dpi)
+    w_px, h_px = report_size_px(dpi)
+    fig = fc.new_figure((w_px + 0.25) / dpi, (h_px + 0.25) / dpi, dpi=dpi)  # + ¼ px: the canvas truncates
 
     title = fig.add_axes((0.03, 0.90, 0.94, 0.08))
     title.set_axis_off()

@@ -89,21 +89,25 @@ def polygon_factor(points, normals, vertices) -> np.ndarray:
     """Configuration factor from points (N, 3) with ``normals`` to a planar polygon (K, 3), by
     Lambert's contour integral ``F = 1/(2π) Σ γᵢ n · (Rᵢ × Rᵢ₊₁)/|Rᵢ × Rᵢ₊₁|`` (γᵢ the angle between
     the directions Rᵢ, Rᵢ₊₁ to consecutive vertices). Exact when the polygon lies wholly on the
-    normal's side of each point (touching the point's plane is allowed)."""
+    normal's side of each point (touching the point's plane is allowed; a polygon in the point's
+    plane has factor 0)."""
     p = np.asarray(points, float).reshape(-1, 3)
     n = np.asarray(normals, float).reshape(-1, 3)
     n = n / np.linalg.norm(n, axis=1, keepdims=True)
     v = np.asarray(vertices, float).reshape(-1, 3)
     R = v[None, :, :] - p[:, None, :]
-    if ((R * n[:, None, :]).sum(axis=2) < -1e-9 * np.linalg.norm(R, axis=2)).any():
+    height = (R * n[:, None, :]).sum(axis=2)
+    tol = 1e-9 * np.linalg.norm(R, axis=2)
+    if (height < -tol).any():
         raise LuxError("the polygon must lie wholly in front of every point (clip it first)")
+    in_plane = (height <= tol).all(axis=1)  # the polygon lies in the point's plane: it sends nothing
     R1 = np.roll(R, -1, axis=1)
     cr = np.cross(R, R1)
     crn = np.linalg.norm(cr, axis=2)
     gamma = np.arctan2(crn, (R * R1).sum(axis=2))
     with np.errstate(invalid="ignore", divide="ignore"):
         term = np.where(crn > 0, gamma * (cr * n[:, None, :]).sum(axis=2) / crn, 0.0)
-    return np.abs(term.sum(axis=1)) / (2 * math.pi)
+    return np.where(in_plane, 0.0, np.abs(term.sum(axis=1)) / (2 * math.pi))
 
 
 def area_source_illuminance(luminance, points, normals, vertices) -> np.ndarray:

@@ -15,6 +15,8 @@ What a lighting designer does with DIALux, Relux or Radiance, around the rendere
 * :mod:`.falsecolour` — colour lookup (pure NumPy, the viridis table in ``presets/colormaps``),
   linear/log scales, N steps or continuous, legends and labelled iso-lux lines (matplotlib).
 * :mod:`.cie171` — CIE 171:2006 analytic test cases as scenes, points and expected lux.
+* :mod:`.calculate` — runs an integrator on points, a ``.pts`` file or a surface and checks
+  what it returns.
 
 Drawing needs matplotlib (the ``analysis`` extra), imported only inside the functions that
 draw; everything else needs NumPy only, so it runs in Blender's Python.
@@ -27,9 +29,11 @@ initial illuminance in lx on the side each normal faces (cosine-weighted hemisph
 with next-event estimation, delta lights counted, the points invisible to the scene) and the
 standard error of each estimate. Everything here takes those two arrays:
 ``statistics(surface, lux, std_error, samples)``, ``write_surface_csv``,
-``write_summary_json``, ``render_report`` and ``colour_attribute``.
+``write_summary_json``, ``render_report`` and ``colour_attribute``; ``calculate_pts_file(illuminance,
+scene, "in.pts", "out.csv")`` is the ``rtrace -I+`` workflow.
 """
 
+from .calculate import calculate_points, calculate_pts_file, calculate_surface, check_result
 from .cie171 import CIE171_TOLERANCE, ReferenceCase, reference_cases
 from .falsecolour import (
     DEFAULT_STEPS,
@@ -69,12 +73,46 @@ from .report import (
 )
 
 __all__ = [
-    "CIE171_TOLERANCE", "DEFAULT_STEPS", "SURFACE_FORMAT_VERSION",
-    "CalculationSurface", "LuxError", "ReferenceCase", "SurfaceStatistics",
-    "auto_range", "colormap", "colour_attribute", "draw_isolux", "draw_legend", "en12464_spacing",
-    "face_set_grid", "false_colour", "false_colour_image", "generate_colormap_tables", "legend_levels",
-    "maintenance_factor", "mesh_face_points", "mesh_vertex_points", "parse_pts", "points_per_side",
-    "polygon_grid", "read_pts", "read_results_csv", "read_summary_json", "rectangle_grid", "reference_cases",
-    "render_report", "scale_positions", "statistics", "summary", "workplane", "write_pts",
-    "write_results_csv", "write_summary_json", "write_surface_csv",
+    "CIE171_TOLERANCE",
+    "CalculationSurface",
+    "DEFAULT_STEPS",
+    "LuxError",
+    "ReferenceCase",
+    "SURFACE_FORMAT_VERSION",
+    "SurfaceStatistics",
+    "auto_range",
+    "calculate_points",
+    "calculate_pts_file",
+    "calculate_surface",
+    "check_result",
+    "colormap",
+    "colour_attribute",
+    "draw_isolux",
+    "draw_legend",
+    "en12464_spacing",
+    "face_set_grid",
+    "false_colour",
+    "false_colour_image",
+    "generate_colormap_tables",
+    "legend_levels",
+    "maintenance_factor",
+    "mesh_face_points",
+    "mesh_vertex_points",
+    "parse_pts",
+    "points_per_side",
+    "polygon_grid",
+    "read_pts",
+    "read_results_csv",
+    "read_summary_json",
+    "rectangle_grid",
+    "reference_cases",
+    "render_report",
+    "scale_positions",
+    "statistics",
+    "summary",
+    "workplane",
+    "write_pts",
+    "write_results_csv",
+    "write_summary_json",
+    "write_surface_csv",
 ]

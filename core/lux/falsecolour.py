@@ -196,15 +196,24 @@ def false_colour(values, vmin: float | None = None, vmax: float | None = None, s
     return rgb
 
 
+def srgb_to_linear(rgb) -> np.ndarray:
+    """Decode sRGB values in [0, 1] to linear (IEC 61966-2-1 transfer function)."""
+    c = np.asarray(rgb, dtype=np.float64)
+    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+
+
 def colour_attribute(surface, lux, vmin: float | None = None, vmax: float | None = None,
-                     steps: int = DEFAULT_STEPS, scale: str = "linear", colormap_name: str = "viridis") -> np.ndarray:
+                     steps: int = DEFAULT_STEPS, scale: str = "linear", colormap_name: str = "viridis",
+                     linear: bool = False) -> np.ndarray:
     """Per-point RGBA (N, 4) float32 for a calculation surface's ``lux`` (N,), alpha 1: the viewport's
-    colour attribute (sRGB-encoded, as Blender's byte colour attributes are)."""
+    colour attribute. sRGB-encoded by default (Blender's byte colour attributes); ``linear=True``
+    decodes it for float colour attributes, which Blender stores linear."""
     e = np.asarray(lux, dtype=np.float64)
     if e.shape != (surface.n_points,):
         raise LuxError(f"surface {surface.name!r}: expected {surface.n_points} lux values, got shape {e.shape}")
     rgba = np.ones((e.shape[0], 4), np.float32)
-    rgba[:, :3] = false_colour(e, vmin, vmax, steps, scale, colormap_name)
+    rgb = false_colour(e, vmin, vmax, steps, scale, colormap_name)
+    rgba[:, :3] = srgb_to_linear(rgb) if linear else rgb
     return rgba
 
 
@@ -258,8 +267,11 @@ def draw_legend(fig, cax, vmin, vmax, steps=DEFAULT_STEPS, scale="linear", unit=
     sm = matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap)
     levels = legend_levels(vmin, vmax, steps, scale)
     cb = fig.colorbar(sm, cax=cax, orientation=orientation, ticks=levels, spacing="uniform")
-    cb.ax.set_yticklabels([format_value(v) for v in levels]) if orientation == "vertical" else \
-        cb.ax.set_xticklabels([format_value(v) for v in levels])
+    labels = [format_value(v) for v in levels]
+    if orientation == "vertical":
+        cb.ax.set_yticklabels(labels)
+    else:
+        cb.ax.set_xticklabels(labels)
     cb.set_label(unit)
     return cb
 

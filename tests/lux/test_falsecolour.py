@@ -101,6 +101,10 @@ def test_colour_attribute_per_point_rgba():
     assert rgba.shape == (w.n_points, 4) and rgba.dtype == np.float32
     np.testing.assert_array_equal(rgba[:, 3], 1.0)
     np.testing.assert_allclose(rgba[:, :3], fc.false_colour(lux, 0.0, 500.0), atol=1e-7)
+    lin = fc.colour_attribute(w, lux, 0.0, 500.0, linear=True)
+    np.testing.assert_allclose(fc.srgb_to_linear([0.0, 0.04045, 0.5, 1.0]), [0.0, 0.04045 / 12.92, 0.21404114, 1.0],
+                               rtol=1e-7)
+    np.testing.assert_allclose(lin[:, :3], fc.srgb_to_linear(rgba[:, :3]), rtol=1e-6)
     with pytest.raises(LuxError, match="expected"):
         fc.colour_attribute(w, lux[:-1])
 

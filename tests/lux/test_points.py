@@ -83,3 +83,12 @@ def test_results_csv_rejects_bad_arrays_and_keeps_the_old_file(tmp_path):
         P.write_results_csv(out, p, [[0, 0, 1], [0, 0, 0]], [1.0, 2.0], [0.0, 0.0])
     assert out.read_text() == "old\n"
     assert sorted(x.name for x in tmp_path.iterdir()) == ["res.csv"]  # no temporary file left
+
+
+def test_public_names():
+    import spectral_gi.core.lux as lux
+
+    assert len(lux.__all__) == len(set(lux.__all__))
+    for name in lux.__all__:
+        assert hasattr(lux, name), name
+    assert issubclass(lux.LuxError, ValueError)

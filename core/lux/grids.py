@@ -381,11 +381,13 @@ def face_set_grid(positions, triangles, *, name="grid", normal=None, axis_u=None
     if tri.shape[0] == 0 or tri.min() < 0 or tri.max() >= pos.shape[0]:
         raise LuxError(f"surface {name!r}: triangles must index the {pos.shape[0]} positions")
     used = pos[np.unique(tri)]
-    c, _ = _plane_of(used, name, 1e-6)
+    c, plane_n = _plane_of(used, name, 1e-6)
     fn = np.cross(pos[tri[:, 1]] - pos[tri[:, 0]], pos[tri[:, 2]] - pos[tri[:, 0]])
     total = fn.sum(axis=0)
     if normal is not None:
         total = _unit(normal, "normal")
+        if abs(abs(float(np.dot(total, plane_n))) - 1.0) > 1e-6:
+            raise LuxError(f"surface {name!r}: the normal must be perpendicular to the faces")
     if np.linalg.norm(total) <= 1e-12:
         raise LuxError(f"surface {name!r}: the faces have no net area (give the normal)")
     u, v, n = _frame(total, axis_u)

@@ -235,9 +235,13 @@ def _plan_view(fig, ax, cax, surface, e, vmin, vmax, steps, scale):
         ax.set_xlabel("x (m)" if horizontal and surface.axis_u[0] > 0.999 else "u (m)")
         ax.set_ylabel("y (m)" if horizontal and surface.axis_v[1] > 0.999 else "v (m)")
     else:
-        c = surface.points.mean(axis=0)
-        _, _, vt = np.linalg.svd(surface.points - c)
-        uv = (surface.points - c) @ vt[:2].T
+        mean_n = surface.normals.mean(axis=0)
+        if abs(mean_n[2]) > 0.99 * np.linalg.norm(mean_n):  # a horizontal surface: world X and Y
+            uv, labels = surface.points[:, :2], ("x (m)", "y (m)")
+        else:  # the plane of the points' two principal axes
+            c = surface.points.mean(axis=0)
+            _, _, vt = np.linalg.svd(surface.points - c)
+            uv, labels = (surface.points - c) @ vt[:2].T, ("u (m, principal axis)", "v (m)")
         ax.scatter(uv[:, 0], uv[:, 1], c=fc.false_colour(e, vmin, vmax, steps, scale), s=12)
         try:
             import matplotlib.tri as mtri
@@ -249,8 +253,12 @@ def _plan_view(fig, ax, cax, surface, e, vmin, vmax, steps, scale):
                 ax.clabel(cs, fmt=fc.format_value, fontsize=7)
         except (ValueError, RuntimeError):
             pass  # points on a line or too few: no iso-lines
-        ax.set_xlabel("u (m, principal axis)")
-        ax.set_ylabel("v (m)")
+        ax.set_xlabel(labels[0])
+        ax.set_ylabel(labels[1])
+        lo, hi = uv.min(axis=0), uv.max(axis=0)
+        pad = 0.05 * max(float((hi - lo).max()), 1e-6)
+        ax.set_xlim(lo[0] - pad, hi[0] + pad)
+        ax.set_ylim(lo[1] - pad, hi[1] + pad)
     ax.set_aspect("equal")
     fc.draw_legend(fig, cax, vmin, vmax, steps, scale, "lx")
 
@@ -272,7 +280,7 @@ def render_report(surface: CalculationSurface, lux, std_error=None, samples=None
 
     title = fig.add_axes((0.03, 0.90, 0.94, 0.08))
     title.set_axis_off()
-    title.add_patch(Rectangle((0, 0), 1, 1, transform=title.transAxes, fill=False, linewidth=1.0))
+    title.add_patch(Rectangle((0, 0), 1, 1, transform=title.transAxes, fill=False, linewidth=1.0, clip_on=False))
     title.text(0.01, 0.62, project or "Lighting calculation", fontsize=14, weight="bold", va="center")
     which = "maintained illuminance Em = MF × initial" if maintained else "initial illuminance"
     title.text(0.01, 0.22, f"Surface: {surface.name} ({surface.kind}) — {which}, lx", fontsize=10, va="center")

@@ -135,13 +135,15 @@ class CalculationSurface:
         self.weights = np.asarray(self.weights, dtype=np.float64)
         if self.weights.shape != (n,) or not np.isfinite(self.weights).all() or not (self.weights > 0).all():
             raise LuxError(f"surface {self.name!r}: weights must be ({n},) positive areas")
-        if not (math.isfinite(self.band) and self.band >= 0.0):
-            raise LuxError(f"surface {self.name!r}: the band must be ≥ 0 m, got {self.band}")
-        self.band = float(self.band)
-        if not (0.0 < self.maintenance_factor <= 1.0):
-            raise LuxError(f"surface {self.name!r}: the maintenance factor must be in (0, 1], "
-                           f"got {self.maintenance_factor}")
-        self.maintenance_factor = float(self.maintenance_factor)
+        try:
+            band, mf = float(self.band), float(self.maintenance_factor)
+        except (TypeError, ValueError):
+            raise LuxError(f"surface {self.name!r}: the band and the maintenance factor must be numbers") from None
+        if not (math.isfinite(band) and band >= 0.0):
+            raise LuxError(f"surface {self.name!r}: the band must be ≥ 0 m, got {band}")
+        if not (0.0 < mf <= 1.0):
+            raise LuxError(f"surface {self.name!r}: the maintenance factor must be in (0, 1], got {mf}")
+        self.band, self.maintenance_factor = band, mf
         if self.kind in ("grid", "workplane"):
             if self.grid_shape is None or self.spacing is None or self.grid_index is None or self.origin is None:
                 raise LuxError(f"surface {self.name!r}: a {self.kind} needs grid_shape, spacing, grid_index "

@@ -60,6 +60,13 @@ def test_eight_steps_by_default():
                                   [steps[0], steps[7], [0, 0, 0], [0, 0, 0]])
 
 
+def test_images_keep_their_shape():
+    img = np.arange(12.0).reshape(3, 4)
+    rgb = fc.false_colour(img, 0.0, 12.0)
+    assert rgb.shape == (3, 4, 3)
+    np.testing.assert_array_equal(rgb.reshape(-1, 3), fc.false_colour(img.ravel(), 0.0, 12.0))
+
+
 def test_continuous_and_other_step_counts():
     v = np.linspace(0.0, 1.0, 256)
     np.testing.assert_array_equal(fc.false_colour(v, 0.0, 1.0, steps=0), fc.colormap())

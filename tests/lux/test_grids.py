@@ -192,6 +192,14 @@ def test_surface_json_round_trip():
         G.CalculationSurface.from_dict({**d, "kind": "sphere"})
     with pytest.raises(LuxError, match="grid_index"):
         G.CalculationSurface.from_dict({**d, "grid_index": [0] * w.n_points})
+    with pytest.raises(LuxError, match="must be numbers"):
+        G.CalculationSurface.from_dict({**d, "maintenance_factor": "0.8"[:0]})
+    with pytest.raises(LuxError, match="missing field 'weights'"):
+        G.CalculationSurface.from_dict({k: v for k, v in d.items() if k != "weights"})
+    f = G.mesh_face_points([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+    back = G.CalculationSurface.from_dict(json.loads(json.dumps(f.to_dict())))
+    np.testing.assert_array_equal(back.points, f.points)
+    assert back.kind == "faces" and back.weights[0] == pytest.approx(0.5)
 
 
 def test_grid_image_places_values_in_their_cells():

@@ -45,7 +45,7 @@ from ..spectra import uplift
 from .grids import rectangle_grid
 from .points import LuxError
 
-CIE171_TOLERANCE = 0.05  # relative, per point
+CIE171_TOLERANCE = 0.05  # relative difference per point accepted against the analytic value
 CASE_5_8_REFLECTANCES = (0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95)
 
 

@@ -193,7 +193,7 @@ def test_surface_json_round_trip():
     with pytest.raises(LuxError, match="grid_index"):
         G.CalculationSurface.from_dict({**d, "grid_index": [0] * w.n_points})
     with pytest.raises(LuxError, match="must be numbers"):
-        G.CalculationSurface.from_dict({**d, "maintenance_factor": "0.8"[:0]})
+        G.CalculationSurface.from_dict({**d, "maintenance_factor": "high"})
     with pytest.raises(LuxError, match="missing field 'weights'"):
         G.CalculationSurface.from_dict({k: v for k, v in d.items() if k != "weights"})
     f = G.mesh_face_points([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])

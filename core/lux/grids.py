@@ -3,7 +3,8 @@
 Grid spacing follows EN 12464-1:2021 *Light and lighting — Lighting of work places —
 Part 1: Indoor work places*: for a calculation area whose longer side is ``d`` metres the
 maximum spacing is ``p = 0.2 · 5^log10(d)`` (1 m → 0.2 m, 5 m → 0.62 m, 10 m → 1 m;
-never more than 10 m). The number of points along a side of length ``L`` is ``L / p``
+never more than 10 m); for an area whose longer side is at least twice its shorter side,
+``d`` is the shorter side (:func:`grid_size`). The number of points along a side of length ``L`` is ``L / p``
 rounded up to the next whole number, ``n = ceil(L / p)``, so the real spacing ``L / n``
 is never more than ``p``; the points sit at the centres of the ``n`` cells. A band
 (a strip along the boundary, typically 0.5 m at the walls of a work plane) may be left
@@ -44,6 +45,14 @@ def en12464_spacing(d: float) -> float:
     if not (math.isfinite(d) and d > 0.0):
         raise LuxError(f"the size of a calculation area must be a positive number of metres, got {d}")
     return min(0.2 * 5.0 ** math.log10(d), MAX_SPACING)
+
+
+def grid_size(side_a: float, side_b: float) -> float:
+    """The ``d`` of EN 12464-1's spacing rule for a calculation area of sides ``side_a`` and
+    ``side_b``: the longer side, or the shorter one when the longer is at least twice it
+    (so a long corridor is not sampled more coarsely across its width than a room)."""
+    lo, hi = sorted((float(side_a), float(side_b)))
+    return lo if hi >= 2.0 * lo else hi
 
 
 def points_per_side(length: float, spacing: float) -> int:
@@ -288,7 +297,7 @@ def _planar_grid(name, kind, origin, u, v, n, lo, hi, inside, segments, spacing,
         raise LuxError(f"surface {name!r}: a band of {band} m leaves no area "
                        f"(the surface spans {(hi - lo + 2 * band).round(6).tolist()} m)")
     if spacing is None:
-        p = en12464_spacing(float(size.max()))
+        p = en12464_spacing(grid_size(size[0], size[1]))
         pu = pv = p
     else:
         pu, pv = (float(spacing), float(spacing)) if np.ndim(spacing) == 0 else (float(s) for s in spacing)

@@ -48,9 +48,18 @@ def test_square_grid_counts_and_cell_centres(d, n, spacing):
 
 
 def test_rectangle_longer_side_sets_the_spacing():
-    s = G.rectangle_grid((0, 0, 0), (10, 0, 0), (0, 2, 0))  # d = 10 m → p = 1 m
-    assert s.grid_shape == (2, 10)
+    s = G.rectangle_grid((0, 0, 0), (10, 0, 0), (0, 6, 0))  # d = 10 m → p = 1 m
+    assert s.grid_shape == (6, 10)
     assert s.spacing == pytest.approx((1.0, 1.0))
+
+
+def test_long_area_takes_its_shorter_side():
+    """A side at least twice the other: d is the shorter side (10 × 2 m: d = 2 m, p = 0.2 · 5^log10 2)."""
+    assert G.grid_size(10.0, 2.0) == 2.0 and G.grid_size(2.0, 10.0) == 2.0
+    assert G.grid_size(10.0, 6.0) == 10.0 and G.grid_size(4.0, 2.0) == 2.0
+    s = G.rectangle_grid((0, 0, 0), (10, 0, 0), (0, 2, 0))
+    p = G.en12464_spacing(2.0)  # 0.324 m
+    assert s.grid_shape == (G.points_per_side(2.0, p), G.points_per_side(10.0, p)) == (7, 31)
 
 
 def test_band_is_left_out_and_the_spacing_fits_the_inner_area():

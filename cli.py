@@ -3,6 +3,8 @@
     spectral-gi render [SCENE] [--spp N] [--width W --height H] [--max-depth D]
                        [--seed S] [--threads T] [--out FILE.exr] [--exposure EV]
     spectral-gi render-blend SCENE.blend [--out FILE.exr] [--spp N] [--compare-cycles] [--json REPORT.json]
+    spectral-gi lux [SCENE] --sensors POINTS.pts [--out lux.csv] [--spp N | --rel-error E]
+                    [--max-depth D] [--seed S] [--threads T]
     spectral-gi save-default-scene OUT.json
 
 Without SCENE it renders the built-in Cornell box. Bad input prints one line
@@ -120,6 +122,21 @@ def _parser():
                    help="also render with Cycles at matched settings and report luminance ratio, relative RMSE "
                         "and ΔE00 (images and report beside --out)")
     b.add_argument("--json", help="write a JSON report of the render (and the comparison) to this file")
+    lx = sub.add_parser("lux", help="illuminance (lux) at sensor points, as Radiance's rtrace -I: a .pts file in, "
+                                    "a CSV of lux and standard errors out")
+    lx.add_argument("scene", nargs="?", help="scene file (.json with its .npz beside it) or scene folder")
+    lx.add_argument("--builtin", choices=("cornell", "colorchecker"), help="a built-in scene instead of a file")
+    lx.add_argument("--sensors", required=True,
+                    help="points file: one point a line, 'x y z nx ny nz' in metres ('#' comments allowed)")
+    lx.add_argument("--out", help="results CSV (x,y,z,nx,ny,nz,lux,std_error; default: <points file>.csv)")
+    stop = lx.add_mutually_exclusive_group()
+    stop.add_argument("--spp", type=_positive_int, default=256, help="samples per point (default 256)")
+    stop.add_argument("--rel-error", type=float,
+                      help="stop each point at this relative standard error (at most 4096 samples a point)")
+    lx.add_argument("--max-depth", type=_non_negative_int,
+                    help="bounces after the first (default: unlimited, Russian roulette ends paths without bias)")
+    lx.add_argument("--seed", type=_non_negative_int, help="random seed (default: the scene's)")
+    lx.add_argument("--threads", type=_non_negative_int, default=0, help="worker threads (0: all cores)")
     s = sub.add_parser("save-default-scene", help="write the built-in Cornell box as a scene file")
     s.add_argument("out", help="output scene file (.json; the .npz is written beside it)")
     return p
@@ -252,6 +269,44 @@ def _render(args):
     return EXIT_OK
 
 
+def _lux(args):
+    """``lux``: illuminance at the points of a ``.pts`` file, written as a CSV in input order."""
+    import numpy as np
+
+    from .core.integrators.illuminance import illuminance
+    from .core.lux import calculate_pts_file
+    from .core.scene import SceneError, load
+    from .core.scene.builtin import BUILTIN_SCENES
+
+    if args.scene and args.builtin:
+        raise SceneError("give either a scene file or --builtin, not both")
+    if not args.scene and not args.builtin:
+        raise SceneError("give a scene file or --builtin")
+    scene = load(args.scene) if args.scene else BUILTIN_SCENES[args.builtin]()
+    if args.rel_error is not None and not 0.0 < args.rel_error < 1.0:
+        raise SceneError(f"--rel-error must be in (0, 1), got {args.rel_error}")
+    out = Path(args.out) if args.out else Path(args.sensors).with_suffix(".csv")
+    bar = _Progress()
+    done = {"spp": 0}
+    t0 = time.perf_counter()
+
+    def progress(samples, total):
+        bar(samples, total, samples / max(time.perf_counter() - t0, 1e-9))
+
+    def estimate(sc, points, normals):
+        lux, se, spp = illuminance(sc, points, normals, spp=4096 if args.rel_error else args.spp,
+                                   rel_error=args.rel_error, max_depth=args.max_depth, seed=args.seed,
+                                   threads=args.threads or None, progress=progress)
+        done["spp"] = int(np.sum(spp))
+        return lux, se
+
+    lux, se = calculate_pts_file(estimate, scene, args.sensors, out)
+    rel = np.where(lux > 0, se / np.where(lux > 0, lux, 1.0), 0.0)
+    sys.stderr.write(f"{lux.size} points, {done['spp']} samples in {time.perf_counter() - t0:.1f} s; "
+                     f"largest relative standard error {rel.max():.3g}; wrote {out}\n")
+    return EXIT_OK
+
+
 def _render_blend(args):
     """``render-blend``: handled by the add-on's headless driver (it needs bpy, which core never
     imports), imported only when the command runs."""
@@ -274,6 +329,8 @@ def main(argv=None):
             return _render(args)
         if args.command == "render-blend":
             return _render_blend(args)
+        if args.command == "lux":
+            return _lux(args)
         if args.command == "save-default-scene":
             from .core.scene import save
             from .core.scene.builtin import cornell_box

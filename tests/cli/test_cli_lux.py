@@ -1,0 +1,67 @@
+"""``spectral-gi lux``: a points file in, a CSV of lux and standard errors out (Radiance's rtrace -I)."""
+import csv
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from helpers import plane_scene
+
+from spectral_gi.core import constants as C
+from spectral_gi.core.scene import Light, save
+
+CLI = [sys.executable, "-m", "spectral_gi.cli"]
+INTENSITY = 100.0  # cd
+HEIGHT = 2.0  # m
+
+
+def run(args, cwd):
+    return subprocess.run(CLI + args, cwd=cwd, capture_output=True, text=True, timeout=900)
+
+
+@pytest.fixture
+def scene_file(tmp_path):
+    light = Light("lamp", C.LIGHT_POINT, (0.0, 0.0, HEIGHT), (0, 0, 0), (0, 0, 0), 0, 0.0, intensity=INTENSITY)
+    sc = plane_scene([light], max_depth=0)
+    return save(sc, tmp_path / "room.json")
+
+
+@pytest.mark.slow
+def test_lux_at_points_is_i_cos_over_d2_in_input_order(tmp_path, scene_file):
+    pts = tmp_path / "grid.pts"
+    rows = [(1.0, 0.0, 0.0, 0, 0, 1), (0.0, 0.0, 0.0, 0, 0, 1), (0.0, 0.0, 1.0, 0, 0, 1),
+            (0.0, 0.5, 0.0, 0, 1, 0)]  # floor points, one in free space, one vertical facing +y
+    pts.write_text("# x y z nx ny nz\n" + "\n".join(" ".join(map(str, r)) for r in rows) + "\n")
+    r = run(["lux", str(scene_file), "--sensors", str(pts), "--spp", "64", "--out", "lux.csv"], tmp_path)
+    assert r.returncode == 0, r.stderr
+    with open(tmp_path / "lux.csv", newline="") as f:
+        table = list(csv.reader(f))
+    assert table[0] == ["x", "y", "z", "nx", "ny", "nz", "lux", "std_error"]
+    got = np.array([[float(v) for v in row] for row in table[1:]])
+    np.testing.assert_allclose(got[:, :3], np.array(rows)[:, :3])
+    expected = []
+    for x, y, z, nx, ny, nz in rows:
+        v = np.array([0.0, 0.0, HEIGHT]) - (x, y, z)
+        d = np.linalg.norm(v)
+        expected.append(max(0.0, INTENSITY * (v @ (nx, ny, nz)) / d ** 3))
+    # the floor reflects (ρ = 0.8) but the points are above it or on it facing up: no light from below,
+    # except the vertical point, which sees the lit floor; the rest is direct light alone
+    np.testing.assert_allclose(got[:3, 6], expected[:3], rtol=0.01)
+    assert got[3, 6] > expected[3]  # the direct part plus the floor's reflection
+    assert np.all(got[:, 7] >= 0.0)
+
+
+def test_a_bad_points_file_is_one_line_and_status_2(tmp_path, scene_file):
+    pts = tmp_path / "bad.pts"
+    pts.write_text("0 0 0 0 0 1\n1 2 3\n")
+    r = run(["lux", str(scene_file), "--sensors", str(pts)], tmp_path)
+    assert r.returncode == 2
+    assert r.stderr.strip().count("\n") == 0 and "bad.pts, line 2" in r.stderr, r.stderr
+    assert not (tmp_path / "bad.csv").exists()
+
+
+def test_missing_scene_is_a_usage_error(tmp_path):
+    pts = tmp_path / "p.pts"
+    pts.write_text("0 0 0 0 0 1\n")
+    r = run(["lux", "--sensors", str(pts)], tmp_path)
+    assert r.returncode == 2 and "give a scene file or --builtin" in r.stderr

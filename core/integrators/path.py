@@ -17,6 +17,7 @@ pixel's samples are summed in sample order, so the film is bit-identical whateve
 number of threads or the split of samples into passes.
 """
 import math
+from typing import NamedTuple
 
 import numpy as np
 from .. import constants as C
@@ -521,106 +522,127 @@ def _splat(film, spectral, y, x, rad, pdf_lam, lam, cmf, photometric):
         film[y, x, 4] += Y * Y
 
 
+class Scratch(NamedTuple):
+    """The arrays render_rows works in (it allocates nothing: see core/jit.py ``kernel``);
+    one set per concurrent call.
+
+    work: float64 (WORK_ROWS, N_WAVELENGTHS) the path's per-wavelength state: λ, pdf(λ), β,
+        L, ρa, ρb, η, κ, f, Le and the λ's 1 nm cell fraction.
+    mw: float64 (MW_ROWS, N_WAVELENGTHS) the media code's per-wavelength state
+        (core/media/kernel.py).
+    pm_tex: float64 (MATERIAL_PARAMS,) a material's parameter row with textured roughness.
+    lc: int64 (N_WAVELENGTHS,) the λ's 1 nm cell.
+    stack: int32 (STACK_SIZE,) the BVH traversal's stack.
+    """
+
+    work: np.ndarray
+    mw: np.ndarray
+    pm_tex: np.ndarray
+    lc: np.ndarray
+    stack: np.ndarray
+
+
 def scratch(n_params):
-    """The scratch arrays render_rows works in (it allocates nothing: see ``kernel``):
-    (work, mw, pm_tex, lc, stack) for material parameter rows of ``n_params`` entries.
-    One set per concurrent call."""
-    return (np.empty((WORK_ROWS, NW)), np.empty((media.MW_ROWS, NW)), np.empty(max(int(n_params), 1)),
-            np.empty(NW, np.int64), np.empty(STACK_SIZE, np.int32))
+    """A :class:`Scratch` for material parameter rows of ``n_params`` entries."""
+    return Scratch(np.empty((WORK_ROWS, NW)), np.empty((media.MW_ROWS, NW)), np.empty(max(int(n_params), 1)),
+                   np.empty(NW, np.int64), np.empty(STACK_SIZE, np.int32))
 
 
 @kernel(refcount=False)
-def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, cam, filt,
-                nodes, tris, v0, e1, e2, tri_mat, tri_emitter,
-                mat_model, mat_p, mat_ra, mat_rb, mat_eta, mat_kappa, mat_ior, ior_tab,
-                mat_emis, mat_emis_scale, mat_emis_two,
-                spec, cmf,
-                light_kind, light_geo, light_prof, light_spec, light_scale, light_two_sided, light_visible,
-                emit_cdf, emit_prob, emit_tri, emit_light,
-                world_spec, world_scale, world_img, world_dist, world_par, world_row, world_emit,
-                spectral, aov, tri_nrm, spec_alb, sampler, n_total, mat_medium, med_tab, med_g, cam_medium, nee,
-                tri_flag, sensor_mat, film_transparent,
-                tri_tex, tex_data, tex_info, mat_tex, mat_nstr, tex_row, sph_lo, sph_hi, work, mw, pm_tex, lc, stack):
-    """Add samples s0 .. s1-1 of every pixel of rows y0 .. y1-1 to ``film`` (H, W, 5) float64.
+def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr):
+    """Add samples s0 .. s1-1 of every pixel of rows y0 .. y1-1 to the film record ``fr``.
 
-    cmf: (N_LAMBDA, 3) x̄, ȳ, z̄ of the observer, or (N_LAMBDA, 4) with V(λ) in column 3 when
-    the observer is not CIE 1931: then ``film`` has a 6th channel, the V-weighted Y, and
-    channel 4 sums its square (photometric quantities do not depend on the observer).
+    The records (each field documented where it is defined): fr core/film/record.py,
+    geo core/geometry/record.py, mat core/bsdfs/record.py, emt core/lights/record.py,
+    med core/media/record.py, txr core/textures/record.py, camr core/camera/record.py,
+    st core/integrators/settings.py, scr ``Scratch``.
 
     A serial kernel that releases the GIL: the renderer runs blocks of rows on a pool of
     Python threads (compiling a prange kernel takes four times as long, and numba's
     threading layers abort the process on concurrent launches). Rows never overlap, so
     the film does not depend on the number of threads.
 
-    cam: the camera vector and filt the pixel filter's distribution (core/kernels/camera.py).
-
-    Materials: mat_model (MAT_* tags) and mat_p (K, 16) rows for core.bsdfs; spectral
-    inputs ra/rb (rows of ``spec``, -1: 0 / 1), η (row of ``ior_tab`` or the constant
-    mat_ior) and κ (row of ``ior_tab`` or 0). MAT_MIX/MAT_ADD pick one component per hit.
-
-    sampler: SAMPLER_* tag (independent, Halton, Hammersley); n_total: the render's
-    total samples per pixel (Hammersley's n).
-
-    World: a constant spectrum (world_spec row, world_scale), or, when world_par[3] > 0, the
-    equirectangular image world_img (H, W, 3) whose texel rgb weighs the three spectrum rows
-    world_row.. (the emission basis), scaled by world_par[2], importance sampled by
-    world_dist (see lights.env_*), entry world_emit of the emitter table.
-
-    Shading normals: tri_nrm (T, 9) float32, the three vertex normals of each triangle in
-    leaf order (0 rows: flat shading), interpolated with the hit's barycentrics and turned
-    to the geometric normal's side; the geometric normal still decides ray offsets and
-    which side a direction is on (a direction on different sides of the two normals
-    contributes nothing: no light leaks through shading normals).
-
-    aov: (H, W, 8) float64 sums per sample: 0-2 CIE XYZ of the first non-delta hit's
-    reflectance (ra) under D65 (spec_alb: (S, 3) XYZ of each spectrum row under D65 of
-    Y = 1, precomputed, so the pass carries no colour noise), 3-5 the
-    first hit's shading normal facing the camera, 6 the first hit's distance along the
-    camera ray, 7 the number of samples whose camera ray hit something, 8 the number of
-    samples that left the pixel transparent (alpha = 1 - that / samples; see below).
-
-    Holdout, transparent film and illuminance sensors: tri_flag (T,) int8 in leaf order
-    (0 entries: no flags), bit 1 a sensor triangle, bit 2 a holdout triangle. A camera ray
-    whose first hit is a holdout triangle ends there with no radiance and counts as
-    transparent; with film_transparent != 0 a camera ray that hits nothing counts as
-    transparent and adds no world radiance (the world still lights the scene).
-    sensor_mat ≥ 0 turns on measuring mode: the camera ray's first hit, if it is a sensor
-    triangle, takes material sensor_mat (a white two-sided Lambert, no emission) instead of
-    its own, every deeper vertex its real material, so the pixel's radiance is E/π; camera
-    rays that hit no sensor (or nothing) end at once, count as transparent, and analytic
-    lights seen by camera rays are ignored.
-
-    spectral: (H, W, B) float64 sums of the spectral radiance averaged over B equal bins
-    of [LMIN, LMAX] (W/(m² sr nm)); pass a (1, 1, 0) array to skip it.
-
-    light_geo: float64 (L, lights.LG_SIZE), layout in core/kernels/lights.py; light_prof: float64,
-    the photometric profiles of the lights that have one, concatenated (offsets in light_geo
-    column LG_PROF; at least one element); light_scale turns
-    a light's spectrum shape into its radiance (or intensity / illuminance for delta lights).
-    emit_*: the emitter distribution over emissive triangles (emit_tri ≥ 0, leaf order)
-    and analytic lights (emit_light ≥ 0); emit_cdf has E + 1 entries.
-
-    Media (core/kernels/media.py): mat_medium (K,) interior medium of each material (-1
-    none); med_tab (2 M, N_LAMBDA) σa, σs rows per medium in 1/m, (0, N_LAMBDA) when the
-    scene has neither media nor null surfaces (then nothing of this runs); med_g (M,) HG
-    anisotropy; cam_medium the camera's medium.
-
-    Image textures (core/textures.py, lookups in core/kernels/textures.py): tri_tex (T, 10)
-    float32 per leaf triangle, its corners' UVs, tangent ∂p/∂u and UV handedness ((0, 10):
-    no material has a texture, and none of this runs); tex_data / tex_info the texels of all
-    textures and their table; mat_tex (K, 3) each material's base colour, roughness and
-    normal texture (-1 none), mat_nstr (K,) its normal strength; tex_row the first of the
-    three reflectance basis rows of ``spec`` a base colour texel's rgb weighs.
-
-    Emissive triangles (compendium item 22): seen from a shading point under a solid angle Ω
-    in [sph_lo, sph_hi] sr, a triangle is sampled uniformly in Ω (Arvo's spherical triangle,
-    pdf 1/Ω), otherwise by area (pdf r² / (A cos θ)); the MIS weight of a BSDF-sampled ray that
-    hits an emissive triangle applies the same rule to the ray's origin. sph_lo > sph_hi turns
-    the solid-angle branch off (area sampling only).
-
-    work, mw, pm_tex, lc, stack: scratch arrays from ``scratch`` (the kernel allocates
-    nothing, so it runs without numba's reference counting).
+    Holdout and sensors: a camera ray whose first hit is a holdout triangle ends there with
+    no radiance and counts as transparent; with film_transparent a camera ray that hits
+    nothing counts as transparent and adds no world radiance (the world still lights the
+    scene). In measuring mode (sensor_mat ≥ 0) the camera ray's first hit, if it is a
+    sensor triangle, takes material sensor_mat (a white two-sided Lambert, no emission)
+    instead of its own, every deeper vertex its real material, so the pixel's radiance is
+    E/π; camera rays that hit no sensor (or nothing) end at once, count as transparent,
+    and analytic lights seen by camera rays are ignored.
     """
+    film = fr.sums
+    spectral = fr.spectral
+    aov = fr.aov
+    cmf = fr.cmf
+    nodes = geo.nodes
+    tris = geo.tris
+    v0 = geo.v0
+    e1 = geo.e1
+    e2 = geo.e2
+    tri_mat = geo.tri_mat
+    tri_emitter = geo.tri_emitter
+    tri_nrm = geo.tri_nrm
+    tri_flag = geo.tri_flag
+    mat_model = mat.model
+    mat_p = mat.params
+    mat_ra = mat.ra
+    mat_rb = mat.rb
+    mat_eta = mat.eta
+    mat_kappa = mat.kappa
+    mat_ior = mat.ior
+    ior_tab = mat.ior_tab
+    mat_emis = mat.emis
+    mat_emis_scale = mat.emis_scale
+    mat_emis_two = mat.emis_two
+    spec = mat.spec
+    spec_alb = mat.spec_alb
+    light_kind = emt.light_kind
+    light_geo = emt.light_geo
+    light_prof = emt.light_prof
+    light_spec = emt.light_spec
+    light_scale = emt.light_scale
+    light_two_sided = emt.light_two_sided
+    light_visible = emt.light_visible
+    emit_cdf = emt.emit_cdf
+    emit_prob = emt.emit_prob
+    emit_tri = emt.emit_tri
+    emit_light = emt.emit_light
+    world_spec = emt.world_spec
+    world_scale = emt.world_scale
+    world_img = emt.world_img
+    world_dist = emt.world_dist
+    world_par = emt.world_par
+    world_row = emt.world_row
+    world_emit = emt.world_emit
+    mat_medium = med.mat_medium
+    med_tab = med.med_tab
+    med_g = med.med_g
+    cam_medium = med.cam_medium
+    tri_tex = txr.tri_tex
+    tex_data = txr.tex_data
+    tex_info = txr.tex_info
+    mat_tex = txr.mat_tex
+    mat_nstr = txr.mat_nstr
+    tex_row = txr.tex_row
+    cam = camr.cam
+    filt = camr.filt
+    seed = st.seed
+    max_depth = st.max_depth
+    rr_depth = st.rr_depth
+    sampler = st.sampler
+    n_total = st.n_total
+    nee = st.nee
+    sensor_mat = st.sensor_mat
+    film_transparent = st.film_transparent
+    sph_lo = st.sph_lo
+    sph_hi = st.sph_hi
+    scene_scale = st.scene_scale
+    work = scr.work
+    mw = scr.mw
+    pm_tex = scr.pm_tex
+    lc = scr.lc
+    stack = scr.stack
     height = film.shape[0]
     width = film.shape[1]
     n_emit = emit_prob.shape[0]

@@ -223,14 +223,12 @@ def _shadow_setup(materials, media, meshes):
 
 
 def _shadow(prep, o, w, dist, medium=-1):
-    b = prep.bvh
     lam = np.array([400.0, 500.0, 600.0, 700.0])
     mw = np.zeros((M.MW_ROWS, NW))
     from spectral_gi.core.geometry.bvh import STACK_SIZE
     stack = np.empty(STACK_SIZE, np.int32)
-    ok = M.shadow(o[0], o[1], o[2], w[0], w[1], w[2], dist, medium, -1, lam, mw, b.nodes, b.tris,
-                  b.v0, b.e1, b.e2, prep.geometry.tri_mat, prep.materials.model, prep.media.mat_medium, prep.media.med_tab, 1e-6,
-                  stack)
+    ok = M.shadow((float(o[0]), float(o[1]), float(o[2])), (float(w[0]), float(w[1]), float(w[2])), dist, medium, -1,
+                  lam, mw, prep.geometry, prep.materials.model, prep.media, 1e-6, stack)
     return ok, mw[M.MW_TR].copy()
 
 

@@ -21,7 +21,7 @@ from typing import NamedTuple
 
 import numpy as np
 from .. import constants as C
-from ..jit import function, inline, kernel
+from ..jit import fragment, function, inline, kernel
 from ..bsdfs.dispatch import bsdf_eval, bsdf_flags, bsdf_sample
 from ..bsdfs.common import clamp01
 from ..bsdfs.params import (
@@ -413,7 +413,7 @@ def _lookup_material(m, lc, lf, spec, ior_tab, mat_ra, mat_rb, mat_eta, mat_kapp
 
 @function
 def _light_hits(sensing, depth, blocked, t_end, t_lo, o, d, full_weight, prev_pdf, medium, scr, spec, emt):
-    """Add the emission of the analytic lights the ray (ox, d) meets before t_end to ``rad``
+    """Add the emission of the analytic lights the ray (o, d) meets before t_end to L
     (they are hit for their emission and never occlude, as in Cycles). ``sensing``: a
     camera ray of the measuring pass (lights unseen); ``blocked``: the ray hit a surface
     or scattered in a medium (the sun, at infinity, is not reached); ``full_weight``: the
@@ -607,7 +607,7 @@ def scratch(n_params):
                    np.empty(NW, np.int64), np.empty(STACK_SIZE, np.int32))
 
 
-@inline
+@fragment
 def _camera_sample(camr, st, smp, x, y, width, height, thin_lens, scr):
     """A new path of pixel (x, y): its wavelengths (dimension 0: a hero and equally offset
     companions, into the scratch rows λ, pdf(λ) and cells, with β = 1 and L = 0) and its
@@ -644,7 +644,7 @@ def _camera_sample(camr, st, smp, x, y, width, height, thin_lens, scr):
                       rnd_f(sampler, key, pseed, s, np.int64(2), n_total), u3, u4)
 
 
-@inline
+@fragment
 def _segment(geo, mat, emt, st, smp, cfg, scr, o, d, t_lo, medium, depth, dim, prev_delta, prev_pdf):
     """The ray (o, d) from t_lo: its closest hit (t, prim, bu, bv), in a medium the free-flight
     distance (t_end < t: a scattering event comes first; one dimension drawn), and the
@@ -665,7 +665,7 @@ def _segment(geo, mat, emt, st, smp, cfg, scr, o, d, t_lo, medium, depth, dim, p
     return t, prim, bu, bv, t_end, dim
 
 
-@inline
+@fragment
 def _roulette(st, smp, beta, q, depth, dim):
     """Russian roulette after a scattering event (``depth`` counts it): the path ends when its
     largest throughput ``q`` is 0, and from rr_depth on it survives with probability q < 1,
@@ -683,7 +683,7 @@ def _roulette(st, smp, beta, q, depth, dim):
     return True, dim
 
 
-@inline
+@fragment
 def _medium_scatter(geo, mat, emt, med, st, smp, cfg, scr, o, d, seg, vol, depth, dim):
     """A scattering event in the medium ``vol`` = (medium, outer) at t_end along (o, d)
     (seg = (t, t_end, t_lo), t_end < t): the transmittance and albedo of the flight, next-event
@@ -730,7 +730,7 @@ def _medium_scatter(geo, mat, emt, med, st, smp, cfg, scr, o, d, seg, vol, depth
     return alive, px, py, pz, dx, dy, dz, prev_pdf, depth, dim
 
 
-@inline
+@fragment
 def _hit_point(geo, o, d, t, prim):
     """The surface hit at t along (o, d) on triangle ``prim``: (ok, px, py, pz, nx, ny, nz,
     area, cos_i) with n the unit geometric normal, area the triangle's, cos_i = -n·d; ok
@@ -752,7 +752,7 @@ def _hit_point(geo, o, d, t, prim):
     return True, px, py, pz, nx, ny, nz, area, cos_i
 
 
-@inline
+@fragment
 def _shading_normal(geo, prim, bu, bv, n, d, cos_i):
     """The shading normal at barycentrics (bu, bv) of ``prim``: the vertex normals
     interpolated, on the geometric normal n's side; n itself where the two disagree about the
@@ -782,7 +782,7 @@ def _shading_normal(geo, prim, bu, bv, n, d, cos_i):
     return snx, sny, snz
 
 
-@inline
+@fragment
 def _first_hit(fr, geo, st, x, y, prim, m, sn, d, t):
     """The camera ray's hit on ``prim`` (material m) at distance t: the normal, depth and hit
     count AOVs of pixel (x, y), then holdouts and sensors. Returns (material, transparent):
@@ -809,7 +809,7 @@ def _first_hit(fr, geo, st, x, y, prim, m, sn, d, t):
     return m, False
 
 
-@inline
+@fragment
 def _emission(geo, mat, emt, st, cfg, scr, o, hit, t, prim, m, prev_delta, prev_pdf):
     """Material m's emitted radiance at the hit (hit = (px, py, pz, nx, ny, nz, area, cos_i),
     t along the ray from o) added to L: from both sides (Blender's Emission shader) or the
@@ -845,7 +845,7 @@ def _emission(geo, mat, emt, st, cfg, scr, o, hit, t, prim, m, prev_delta, prev_
             rad[i] += beta[i] * w * mat.emis_scale[m] * at(mat.spec, mat_emis[m], lc[i], lf[i])
 
 
-@inline
+@fragment
 def _pick_component(mat, st, smp, m, dim):
     """Mixes: one component of material m picked (Mix: by weight; Add: either, counted
     twice), one dimension per level. Returns (material, weight, dim)."""
@@ -866,7 +866,7 @@ def _pick_component(mat, st, smp, m, dim):
     return m, mix_w, dim
 
 
-@inline
+@fragment
 def _surface_material(mat, txr, cfg, scr, m, prim, bu, bv, sn, d, cos_i):
     """Material m at the hit: ρa, ρb, η and κ at the path's wavelengths into the scratch
     rows, then its image textures (base colour into ρa, roughness into the scratch parameter
@@ -891,7 +891,7 @@ def _surface_material(mat, txr, cfg, scr, m, prim, bu, bv, sn, d, cos_i):
     return tex_base, rough, cr, cg, cb, snx, sny, snz
 
 
-@inline
+@fragment
 def _shading_frame(sn, d):
     """The local frame around the shading normal sn (Duff et al. 2017) and the direction
     towards the ray's origin in it: (snx, sny, snz, tx, ty, tz, cx, cy, cz, wox, woy, woz)."""
@@ -912,7 +912,7 @@ def _shading_frame(sn, d):
     return snx, sny, snz, tx, ty, tz, cx, cy, cz, wox, woy, woz
 
 
-@inline
+@fragment
 def _albedo(mat, txr, m, tex_base, rgb, mix_w, axyz):
     """The albedo AOV's XYZ at the first diffuse or glossy hit: the textured base colour's
     (rgb weighing the reflectance basis rows) or material m's ρa, times the mix weight; axyz
@@ -935,7 +935,7 @@ def _albedo(mat, txr, m, tex_base, rgb, mix_w, axyz):
     return aX, aY, aZ
 
 
-@inline
+@fragment
 def _surface_nee(geo, mat, emt, med, st, smp, cfg, scr, dim, hit, shade, prim, model, pm, mix_w, vol):
     """Next-event estimation at a surface hit: one emitter picked in proportion to its power
     (dimension dim), a point or direction on it (dim + 1, dim + 2), the BSDF (model, pm) at
@@ -1003,7 +1003,7 @@ def _surface_nee(geo, mat, emt, med, st, smp, cfg, scr, dim, hit, shade, prim, m
                     rad[i] += beta[i] * fv[i] * g * le[i]
 
 
-@inline
+@fragment
 def _bsdf_step(mat, st, smp, cfg, scr, dim, wo, model, pm, mix_w, dispersed):
     """BSDF sampling at a surface hit: a direction from the BSDF (model, pm) for the outgoing
     direction wo (local frame; dimensions dim .. dim + 2), β multiplied by f cos / pdf and
@@ -1043,7 +1043,7 @@ def _bsdf_step(mat, st, smp, cfg, scr, dim, wo, model, pm, mix_w, dispersed):
     return flags, wix, wiy, wiz, pdf, q, dispersed, dim
 
 
-@inline
+@fragment
 def _next_ray(geo, med, cfg, scr, hit, shade, wi, prim, vol):
     """The sampled direction wi (local frame of ``shade``) in world space and the next ray's
     origin, offset from the hit to the side it leaves; a transmitted ray crosses into or out
@@ -1072,7 +1072,7 @@ def _next_ray(geo, med, cfg, scr, hit, shade, wi, prim, vol):
     return True, ox, oy, oz, dx, dy, dz, medium, outer
 
 
-@inline
+@fragment
 def _film_add(fr, y, x, scr, axyz, transp, photometric):
     """The path's estimate into pixel (x, y) of the film record: XYZ, count, Y² and the
     spectral bins (``_splat``), the albedo AOV's XYZ and the transparent-sample count."""
@@ -1101,7 +1101,8 @@ def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr):
     free flight, analytic lights), ``_medium_scatter`` or the world or a surface hit
     (``_hit_point``, ``_shading_normal``, ``_first_hit``: AOVs, holdouts, sensors;
     ``_emission``; ``_pick_component``, ``_surface_material``; ``_surface_nee``;
-    ``_bsdf_step``, ``_next_ray``, ``_roulette``); then ``_film_add``.
+    ``_bsdf_step``, ``_next_ray``, ``_roulette``); then ``_film_add``. The fragments are
+    inlined into this body by numba (core/jit.py ``fragment``).
     """
     height = fr.sums.shape[0]
     width = fr.sums.shape[1]

@@ -373,7 +373,7 @@ def batches(spp):
         b1 = min(spp, b0 + size)
         out.append((b0, b1))
         b0 = b1
-        size = min(2 * b0, MAX_BATCH)
+        size = min(b0, MAX_BATCH)
     return out
 
 

@@ -288,3 +288,23 @@ def test_cylindrical_and_semicylindrical():
     assert se[0] < 0.05 * lux[0]
     lux, se, _ = semicylindrical_illuminance(sc, pts + pts, towards + [[1, 0, 0]], spp=1024, threads=2)
     close(lux, se, [I_CD / d2 * sin_g * 2 / math.pi, 0.0], rel=5e-3)
+
+
+def test_public_names():
+    from spectral_gi import core
+    from spectral_gi.core.integrators import illuminance as M
+
+    assert core.point_illuminance is M.illuminance and core.point_luminance is M.luminance
+    assert core.cylindrical_illuminance is M.cylindrical_illuminance
+    assert {"point_illuminance", "point_luminance", "semicylindrical_illuminance"} <= set(core.__all__)
+
+
+@pytest.mark.parametrize("sampler", [C.SAMPLER_INDEPENDENT, C.SAMPLER_HALTON, C.SAMPLER_HAMMERSLEY])
+def test_other_samplers(sampler):
+    sp, e = spectra()
+    a, b, h, L = 1.0, 2.0, 1.5, 1000.0
+    rect = Light("rect", C.LIGHT_RECT, (a / 2, b / 2, h), (a / 2, 0, 0), (0, -b / 2, 0), e, L)
+    sc = floor_scene([rect, point_light(e, (0.0, 0.0, H), I_CD)], sp, rho=0.0)
+    sc.settings.sampler = sampler
+    lux, se, _ = illuminance(sc, [[0, 0, 0]], [[0, 0, 1]], spp=1024, threads=2)
+    close(lux, se, [L * math.pi * corner_factor(a, b, h) + I_CD / H ** 2])

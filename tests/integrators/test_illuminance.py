@@ -308,3 +308,41 @@ def test_other_samplers(sampler):
     sc.settings.sampler = sampler
     lux, se, _ = illuminance(sc, [[0, 0, 0]], [[0, 0, 1]], spp=1024, threads=2)
     close(lux, se, [L * math.pi * corner_factor(a, b, h) + I_CD / H ** 2])
+
+
+def test_spot_and_profiled_lights_are_counted():
+    """Delta lights with a direction-dependent intensity: a spot's cone, and an IES-style
+    profile I(θ) = I0 (1 − θ/π) (linear in θ, so its bilinear table is exact)."""
+    from spectral_gi.core.scene import Profile
+
+    sp, e = spectra()
+    spot = Light("spot", C.LIGHT_SPOT, (0.0, 0.0, H), (0, 0, 0), (0, 0, 0), e, 0.0, intensity=I_CD,
+                 direction=(0, 0, -1), spot_angle=math.radians(60))
+    lux, se, _ = illuminance(floor_scene([spot], sp), [[0, 0, 0], [0.5, 0, 0], [2, 0, 0]], [[0, 0, 1]] * 3,
+                             spp=32, threads=1)
+    close(lux, se, [I_CD / H ** 2, I_CD * H / (0.25 + H * H) ** 1.5, 0.0])
+    prof = Profile("linear", np.array([0.0, 180.0]), np.array([0.0, 360.0]), np.array([[I_CD, 0.0], [I_CD, 0.0]]))
+    lamp = Light("ies", C.LIGHT_POINT, (0.0, 0.0, H), (1, 0, 0), (0, 0, 0), e, 0.0, direction=(0, 0, -1),
+                 profile=0, profile_mode="file")
+    sc = Scene(spectra=sp, lights=[lamp], profiles=[prof], settings=RenderSettings(seed=9))
+    s2 = 1 / math.sqrt(2)
+    lux, se, _ = illuminance(sc, [[0, 0, 0], [2, 0, 0], [0, 0, 4]], [[0, 0, 1], [-s2, 0, s2], [0, 0, -1]],
+                             spp=32, threads=1)
+    close(lux, se, [I_CD / H ** 2, I_CD * 0.75 / 8.0, 0.0])
+    assert lux[1] > 0.0
+
+
+def test_shadow_ray_through_an_absorbing_medium():
+    """A slab of absorbing medium (σa = 0.7 /m, 1 m thick, bounded by a null surface)
+    between a point light and the point: E = I / d² · exp(−σa · 1 m)."""
+    from spectral_gi.core.scene import Medium
+
+    sp, e = spectra()
+    sigma = 0.7
+    slab = box_mesh("slab", (-5, -5, 0.5), (5, 5, 1.5), 1)
+    sc = Scene(meshes=[quad("floor", 50.0, 0.0, 0), slab], spectra=sp,
+               materials=[Material("black"), Material("volume", model=C.MAT_NULL, interior=0)],
+               media=[Medium("absorber", absorption_density=sigma)],
+               lights=[point_light(e, (0.0, 0.0, H), I_CD)], settings=RenderSettings(seed=10))
+    lux, se, _ = illuminance(sc, [[0, 0, 0], [0, 0, 1.8]], [[0, 0, 1], [0, 0, 1]], spp=32, threads=1)
+    close(lux, se, [I_CD / H ** 2 * math.exp(-sigma), I_CD / 0.2 ** 2])

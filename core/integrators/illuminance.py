@@ -73,9 +73,9 @@ from ..sampling.qmc import pixel_seed
 from ..sampling.rng import path_key
 from ..scene import SceneError
 from .path import (
-    EPS_REL, INV_PI, NW, _bsdf_step, _emission, _emitter_sample, _hit_point, _medium_scatter, _next_ray, _pick_component, _roulette,
-    _segment, _shading_frame, _shading_normal, _shadow_tmax, _surface_material, _surface_nee, _world_hit, lam_cell,
-    power_heuristic, rnd_f, sample_visible)
+    EPS_REL, INV_PI, NW, _bsdf_step, _emission, _emitter_sample, _hit_point, _medium_scatter, _next_ray,
+    _pick_component, _roulette, _segment, _shading_frame, _shading_normal, _shadow_tmax, _surface_material,
+    _surface_nee, _world_hit, lam_cell, power_heuristic, rnd_f, sample_visible)
 
 # measures (the kernel's ``mode``): integer tags, never reordered
 MODE_ILLUMINANCE = 0  # on the plane with the given normal

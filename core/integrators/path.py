@@ -25,7 +25,7 @@ from ..jit import fragment, function, inline, kernel
 from ..bsdfs.dispatch import bsdf_eval, bsdf_flags, bsdf_sample
 from ..bsdfs.common import clamp01
 from ..bsdfs.params import (
-    ALPHA_MIN, BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE, BSDF_GLOSSY, BSDF_REFLECTION, P_TWO_SIDED)
+    ALPHA_MIN, BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE, BSDF_GLOSSY, P_TWO_SIDED)
 from ..bsdfs.phong import lambert_sample_dir
 from ..media import kernel as media
 from ..textures import kernel as tex
@@ -855,7 +855,8 @@ def _pick_component(mat, st, smp, m, dim):
     for _ in range(C.MIX_DEPTH):
         mm = mat.model[m]
         if mm == C.MAT_MIX:
-            m = int(mat_p[m, 1]) if rnd_f(st.sampler, key, pseed, s, dim, st.n_total) < mat_p[m, 0] else int(mat_p[m, 2])
+            u = rnd_f(st.sampler, key, pseed, s, dim, st.n_total)
+            m = int(mat_p[m, 1]) if u < mat_p[m, 0] else int(mat_p[m, 2])
             dim += 1
         elif mm == C.MAT_ADD:
             m = int(mat_p[m, 1]) if rnd_f(st.sampler, key, pseed, s, dim, st.n_total) < 0.5 else int(mat_p[m, 2])

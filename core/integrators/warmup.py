@@ -2,11 +2,11 @@
 
 The path kernel (``integrators.path.render_rows``, with its fragments inlined) calls some
 forty helpers that numba compiles as functions of their own (the BSDF dispatch, the
-sampler, media, lights, the film splat). numba compiles in one thread per
-process, but its on-disk cache is shared: a helper compiled and saved by another process
-is loaded, not compiled, when the kernel's type inference reaches its call. So on a cold cache ``render`` starts a second
-Python process that compiles the helpers of ``HELPER_GROUP`` while this one builds the
-BVH (compiling its builder) and compiles the other helpers; this one then waits for the
+sampler, media, lights, the film splat). numba compiles in one thread per process, but its
+on-disk cache is shared: a helper compiled and saved by another process is loaded, not
+compiled, when the kernel's type inference reaches its call. So on a cold cache ``render``
+starts a second Python process that compiles the helpers of ``HELPER_GROUP`` while this one
+builds the BVH (compiling its builder) and compiles the other helpers; this one then waits for the
 second to finish (``finish``), so that no helper is compiled twice, and compiles the
 kernel's own body.
 On a machine with one core, with ``SPECTRAL_GI_PARALLEL_COMPILE=0``, or when anything

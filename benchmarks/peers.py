@@ -101,7 +101,8 @@ def _write_ply(path, positions, indices):
 def scene_description(scene, folder):
     """A JSON-able description of ``scene`` for the Mitsuba runner (writes PLY files to ``folder``)."""
     from spectral_gi.core import constants as C
-    from spectral_gi.core.integrators.render import _luminance_scale, cmf_table
+    from spectral_gi.core.film.record import cmf_table
+    from spectral_gi.core.photometry.units import luminance_scale
     from spectral_gi.core.spectra import moments
 
     spec = moments.tabulate(scene.spectra.coeffs, scene.spectra.kind)
@@ -125,13 +126,13 @@ def scene_description(scene, folder):
             if m.emission >= 0 and m.emission_luminance > 0:
                 if not m.two_sided:
                     pass  # Mitsuba's area emitters are one-sided, like this material
-                scale = _luminance_scale(spec[m.emission], cmf, m.emission_luminance, m.name)
+                scale = luminance_scale(spec[m.emission], cmf, m.emission_luminance, m.name)
                 entry["radiance"] = sampled(m.emission, scale)
             shapes.append(entry)
     for li in scene.lights:
         if li.kind not in (C.LIGHT_RECT,):
             raise ValueError(f"light {li.name!r}: only rectangle lights are translated for Mitsuba")
-        scale = _luminance_scale(spec[li.spectrum], cmf, li.luminance, li.name)
+        scale = luminance_scale(spec[li.spectrum], cmf, li.luminance, li.name)
         u, v = np.asarray(li.axis_u, float), np.asarray(li.axis_v, float)
         n = np.cross(u, v)
         m = np.eye(4)

@@ -64,4 +64,20 @@ __all__ = [
     "SpectrumFileError", "load_spectrum_file", "spectrum_file_coeffs",
     "Profile", "read_profile", "PhotometricError", "photometric_presets",
     "render_illuminance", "illuminance_stats", "illuminance_image", "has_sensors",
+    "point_illuminance", "point_luminance", "vertical_illuminance", "cylindrical_illuminance",
+    "semicylindrical_illuminance",
 ]
+
+# lux and cd/m² at points (core/integrators/illuminance.py), imported on first use: the module
+# loads the path kernel's code, which a plain ``import core`` does not need
+_POINT_MEASURES = {"point_illuminance": "illuminance", "point_luminance": "luminance",
+                   "vertical_illuminance": "vertical_illuminance", "cylindrical_illuminance": "cylindrical_illuminance",
+                   "semicylindrical_illuminance": "semicylindrical_illuminance"}
+
+
+def __getattr__(name):
+    if name in _POINT_MEASURES:
+        from .integrators import illuminance as point_measures
+
+        return getattr(point_measures, _POINT_MEASURES[name])
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

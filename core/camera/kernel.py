@@ -1,6 +1,6 @@
 """Camera rays: perspective or orthographic projection, thin lens, pixel filter.
 
-The camera vector (float64[CAM_SIZE], packed by renderer.camera_vector): camera-to-
+The camera vector (float64[CAM_SIZE], packed by core/camera/record.py camera_vector): camera-to-
 world rotation (row major), position, the half extents of the image on the plane
 z = −1 (perspective: tangents) or in metres (orthographic), Blender's lens shift, the
 projection tag, the lens radius (0: pinhole), the focus distance and the filter width.

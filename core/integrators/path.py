@@ -17,14 +17,15 @@ pixel's samples are summed in sample order, so the film is bit-identical whateve
 number of threads or the split of samples into passes.
 """
 import math
+from typing import NamedTuple
 
 import numpy as np
 from .. import constants as C
-from ..jit import function, inline, kernel
+from ..jit import fragment, function, inline, kernel
 from ..bsdfs.dispatch import bsdf_eval, bsdf_flags, bsdf_sample
 from ..bsdfs.common import clamp01
 from ..bsdfs.params import (
-    ALPHA_MIN, BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE, BSDF_GLOSSY, BSDF_REFLECTION, P_TWO_SIDED)
+    ALPHA_MIN, BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE, BSDF_GLOSSY, P_TWO_SIDED)
 from ..bsdfs.phong import lambert_sample_dir
 from ..media import kernel as media
 from ..textures import kernel as tex
@@ -256,13 +257,33 @@ def _triangle_sample(tp, ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_
 
 
 @function
-def _emitter_sample(ei, ua, ub, px, py, pz, lam, le, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale, mat_emis_two,
-                    spec, light_kind, light_geo, light_prof, light_spec, light_scale, light_two_sided, emit_tri,
-                    emit_light,
-                    world_img, world_dist, world_par, world_row, sph_lo, sph_hi):
+def _emitter_sample(ei, ua, ub, px, py, pz, lam, le, geo, mat, emt, st):
     """Emitter ``ei`` sampled from p, as the surface NEE does: (wx, wy, wz, dist, solid-angle
     pdf (inf: delta), fac) and its emitted spectral radiance (or intensity) into ``le``.
-    Used by the surface NEE and at scattering points in media (core/kernels/media.py)."""
+    Used by the surface NEE for analytic lights and the world, and at scattering points in
+    media (``_medium_scatter``)."""
+    v0 = geo.v0
+    e1 = geo.e1
+    e2 = geo.e2
+    tri_mat = geo.tri_mat
+    mat_emis = mat.emis
+    mat_emis_scale = mat.emis_scale
+    mat_emis_two = mat.emis_two
+    spec = mat.spec
+    light_kind = emt.light_kind
+    light_geo = emt.light_geo
+    light_prof = emt.light_prof
+    light_spec = emt.light_spec
+    light_scale = emt.light_scale
+    light_two_sided = emt.light_two_sided
+    emit_tri = emt.emit_tri
+    emit_light = emt.emit_light
+    world_img = emt.world_img
+    world_dist = emt.world_dist
+    world_par = emt.world_par
+    world_row = emt.world_row
+    sph_lo = st.sph_lo
+    sph_hi = st.sph_hi
     if emit_tri[ei] >= 0:
         wx, wy, wz, dist, lpdf, fac, l_row, l_scale = _triangle_sample(
             emit_tri[ei], ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale, mat_emis_two, sph_lo,
@@ -391,16 +412,30 @@ def _lookup_material(m, lc, lf, spec, ior_tab, mat_ra, mat_rb, mat_eta, mat_kapp
 
 
 @function
-def _light_hits(sensing, depth, blocked, t_end, t_lo, ox, oy, oz, dx, dy, dz, full_weight, prev_pdf, medium, mw,
-                beta, rad, lc, lf, spec, light_kind, light_geo, light_prof, light_spec, light_scale,
-                light_two_sided, light_visible, emit_prob):
-    """Add the emission of the analytic lights the ray (ox, d) meets before t_end to ``rad``
+def _light_hits(sensing, depth, blocked, t_end, t_lo, o, d, full_weight, prev_pdf, medium, scr, spec, emt):
+    """Add the emission of the analytic lights the ray (o, d) meets before t_end to L
     (they are hit for their emission and never occlude, as in Cycles). ``sensing``: a
     camera ray of the measuring pass (lights unseen); ``blocked``: the ray hit a surface
     or scattered in a medium (the sun, at infinity, is not reached); ``full_weight``: the
     previous vertex was a delta event or NEE is off (weight 1, else the power heuristic
     against the light's NEE pdf; the analytic lights are the last entries of the emitter
-    table)."""
+    table). o, d: the ray's origin and direction; scr: the path's ``Scratch``; spec: the
+    spectrum table; emt: the emitters record."""
+    ox, oy, oz = o
+    dx, dy, dz = d
+    mw = scr.mw
+    beta = scr.work[2]
+    rad = scr.work[3]
+    lf = scr.work[10]
+    lc = scr.lc
+    light_kind = emt.light_kind
+    light_geo = emt.light_geo
+    light_prof = emt.light_prof
+    light_spec = emt.light_spec
+    light_scale = emt.light_scale
+    light_two_sided = emt.light_two_sided
+    light_visible = emt.light_visible
+    emit_prob = emt.emit_prob
     n_lights = light_kind.shape[0]
     n_emit = emit_prob.shape[0]
     for li in range(n_lights):
@@ -429,10 +464,22 @@ def _light_hits(sensing, depth, blocked, t_end, t_lo, ox, oy, oz, dx, dy, dz, fu
 
 
 @function
-def _world_hit(dx, dy, dz, full_weight, prev_pdf, beta, rad, lc, lf, spec, world_spec, world_scale, world_img,
-               world_dist, world_par, world_row, world_emit, emit_prob):
-    """Add the world's radiance seen along d to ``rad``: the equirectangular image (MIS
+def _world_hit(d, full_weight, prev_pdf, scr, spec, emt):
+    """Add the world's radiance seen along d to the path's L: the equirectangular image (MIS
     weighted against its NEE pdf unless ``full_weight``) or the constant spectrum."""
+    dx, dy, dz = d
+    beta = scr.work[2]
+    rad = scr.work[3]
+    lf = scr.work[10]
+    lc = scr.lc
+    world_spec = emt.world_spec
+    world_scale = emt.world_scale
+    world_img = emt.world_img
+    world_dist = emt.world_dist
+    world_par = emt.world_par
+    world_row = emt.world_row
+    world_emit = emt.world_emit
+    emit_prob = emt.emit_prob
     if world_par[3] > 0.0:
         ti, tj, wpdf = env_lookup(world_dist, world_par, world_img.shape[1], world_img.shape[0], dx, dy, dz)
         w = 1.0
@@ -450,14 +497,27 @@ def _world_hit(dx, dy, dz, full_weight, prev_pdf, beta, rad, lc, lf, spec, world
 
 
 @function
-def _textures(m, prim, bu, bv, snx, sny, snz, dx, dy, dz, cos_i, pm, pm_tex, ra, lc, lf, spec, tex_row, tri_tex,
-              tex_data, tex_info, mat_tex, mat_nstr):
+def _textures(m, prim, bu, bv, sn, d, cos_i, pm, scr, spec, txr):
     """Material ``m``'s image textures at the hit (prim, bu, bv): the base colour texel's
     rgb uplifted into ``ra`` (ρ(λ) = r B_r + g B_g + b B_b, Mallett–Yuksel, basis rows
     tex_row..), the roughness texel as GGX α = roughness² on both axes in a copy of the
     parameter row ``pm`` written to ``pm_tex``, and the normal map applied to the shading
     normal, kept only on the side the ray comes from (as the interpolated normal).
-    Returns (base colour textured, roughness textured, r, g, b, shading normal)."""
+    Returns (base colour textured, roughness textured, r, g, b, shading normal).
+    sn: the shading normal, d: the ray's direction, scr: the path's ``Scratch`` (ρa and the
+    textured parameter row are written there), txr: the textures record."""
+    snx, sny, snz = sn
+    dx, dy, dz = d
+    pm_tex = scr.pm_tex
+    ra = scr.work[4]
+    lf = scr.work[10]
+    lc = scr.lc
+    tex_row = txr.tex_row
+    tri_tex = txr.tri_tex
+    tex_data = txr.tex_data
+    tex_info = txr.tex_info
+    mat_tex = txr.mat_tex
+    mat_nstr = txr.mat_nstr
     t_base = mat_tex[m, 0]
     t_rough = mat_tex[m, 1]
     t_nrm = mat_tex[m, 2]
@@ -521,468 +581,635 @@ def _splat(film, spectral, y, x, rad, pdf_lam, lam, cmf, photometric):
         film[y, x, 4] += Y * Y
 
 
+class Scratch(NamedTuple):
+    """The arrays render_rows works in (it allocates nothing: see core/jit.py ``kernel``);
+    one set per concurrent call.
+
+    work: float64 (WORK_ROWS, N_WAVELENGTHS) the path's per-wavelength state: λ, pdf(λ), β,
+        L, ρa, ρb, η, κ, f, Le and the λ's 1 nm cell fraction.
+    mw: float64 (MW_ROWS, N_WAVELENGTHS) the media code's per-wavelength state
+        (core/media/kernel.py).
+    pm_tex: float64 (MATERIAL_PARAMS,) a material's parameter row with textured roughness.
+    lc: int64 (N_WAVELENGTHS,) the λ's 1 nm cell.
+    stack: int32 (STACK_SIZE,) the BVH traversal's stack.
+    """
+
+    work: np.ndarray
+    mw: np.ndarray
+    pm_tex: np.ndarray
+    lc: np.ndarray
+    stack: np.ndarray
+
+
 def scratch(n_params):
-    """The scratch arrays render_rows works in (it allocates nothing: see ``kernel``):
-    (work, mw, pm_tex, lc, stack) for material parameter rows of ``n_params`` entries.
-    One set per concurrent call."""
-    return (np.empty((WORK_ROWS, NW)), np.empty((media.MW_ROWS, NW)), np.empty(max(int(n_params), 1)),
-            np.empty(NW, np.int64), np.empty(STACK_SIZE, np.int32))
+    """A :class:`Scratch` for material parameter rows of ``n_params`` entries."""
+    return Scratch(np.empty((WORK_ROWS, NW)), np.empty((media.MW_ROWS, NW)), np.empty(max(int(n_params), 1)),
+                   np.empty(NW, np.int64), np.empty(STACK_SIZE, np.int32))
+
+
+@fragment
+def _camera_sample(camr, st, smp, x, y, width, height, thin_lens, scr):
+    """A new path of pixel (x, y): its wavelengths (dimension 0: a hero and equally offset
+    companions, into the scratch rows λ, pdf(λ) and cells, with β = 1 and L = 0) and its
+    camera ray (ox, oy, oz, dx, dy, dz): dimensions 1-2 the pixel filter, 3-4 the lens
+    (drawn only for a thin lens: a pinhole ignores them, and each dimension is a pure
+    function of its number, so skipping them changes nothing else). smp: the path's
+    (key, pixel seed, sample index)."""
+    sampler = st.sampler
+    n_total = st.n_total
+    key, pseed, s = smp
+    work = scr.work
+    lam = work[0]
+    pdf_lam = work[1]
+    beta = work[2]
+    rad = work[3]
+    lf = work[10]
+    lc = scr.lc
+    u0 = rnd_f(sampler, key, pseed, s, np.int64(0), n_total)
+    for i in range(NW):
+        up = u0 + i / NW
+        if up >= 1.0:
+            up -= 1.0
+        lam[i], pdf_lam[i] = sample_visible(up)
+        lc[i], lf[i] = lam_cell(lam[i])
+        beta[i] = 1.0
+        rad[i] = 0.0
+    u3 = 0.5
+    u4 = 0.5
+    if thin_lens:
+        u3 = rnd_f(sampler, key, pseed, s, np.int64(3), n_total)
+        u4 = rnd_f(sampler, key, pseed, s, np.int64(4), n_total)
+    return camera_ray(camr.cam, camr.filt, x, y, width, height,
+                      rnd_f(sampler, key, pseed, s, np.int64(1), n_total),
+                      rnd_f(sampler, key, pseed, s, np.int64(2), n_total), u3, u4)
+
+
+@fragment
+def _segment(geo, mat, emt, st, smp, cfg, scr, o, d, t_lo, medium, depth, dim, prev_delta, prev_pdf):
+    """The ray (o, d) from t_lo: its closest hit (t, prim, bu, bv), in a medium the free-flight
+    distance (t_end < t: a scattering event comes first; one dimension drawn), and the
+    emission of the analytic lights it meets before t_end added to L (hit for their emission,
+    never occluders, as in Cycles). Returns (t, prim, bu, bv, t_end, dim)."""
+    do_nee = cfg[0]
+    ox, oy, oz = o
+    dx, dy, dz = d
+    key, pseed, s = smp
+    t, prim, bu, bv = trace_closest(ox, oy, oz, dx, dy, dz, t_lo, np.inf, geo.nodes, geo.tris, scr.stack)
+    t_end = t
+    if medium >= 0:
+        t_end = min(t, t_lo + media.free_flight(medium, scr.mw, rnd_f(st.sampler, key, pseed, s, dim, st.n_total)))
+        dim += 1
+    if emt.light_kind.shape[0] > 0:
+        _light_hits(depth == 0 and st.sensor_mat >= 0, np.int64(depth), prim >= 0 or t_end < t, t_end, t_lo, o, d,
+                    prev_delta or not do_nee, prev_pdf, medium, scr, mat.spec, emt)
+    return t, prim, bu, bv, t_end, dim
+
+
+@fragment
+def _roulette(st, smp, beta, q, depth, dim):
+    """Russian roulette after a scattering event (``depth`` counts it): the path ends when its
+    largest throughput ``q`` is 0, and from rr_depth on it survives with probability q < 1,
+    β divided by q (one dimension drawn). Returns (alive, dim)."""
+    key, pseed, s = smp
+    if q <= 0.0:
+        return False, dim
+    if depth >= st.rr_depth:
+        if q < 1.0:
+            if rnd_f(st.sampler, key, pseed, s, dim, st.n_total) >= q:
+                return False, dim
+            for i in range(NW):
+                beta[i] /= q
+        dim += 1
+    return True, dim
+
+
+@fragment
+def _medium_scatter(geo, mat, emt, med, st, smp, cfg, scr, o, d, seg, vol, depth, dim):
+    """A scattering event in the medium ``vol`` = (medium, outer) at t_end along (o, d)
+    (seg = (t, t_end, t_lo), t_end < t): the transmittance and albedo of the flight, next-event
+    estimation towards one emitter (three dimensions), a Henyey–Greenstein direction (two)
+    and Russian roulette. Returns (alive, new origin, new direction, pdf of the direction,
+    depth, dim); alive False: the path ends here."""
+    do_nee = cfg[0]
+    eps = cfg[1]
+    ox, oy, oz = o
+    dx, dy, dz = d
+    t, t_end, t_lo = seg
+    medium = vol[0]
+    sampler = st.sampler
+    n_total = st.n_total
+    key, pseed, s = smp
+    work = scr.work
+    lam = work[0]
+    pdf_lam = work[1]
+    beta = work[2]
+    rad = work[3]
+    le = work[9]
+    mw = scr.mw
+    media.segment(medium, mw, beta, t_end - t_lo, t_end < t)  # True here, not as a literal
+    if depth > st.max_depth:
+        return False, ox, oy, oz, dx, dy, dz, 0.0, depth, dim
+    px = ox + t_end * dx
+    py = oy + t_end * dy
+    pz = oz + t_end * dz
+    g = med.med_g[medium]
+    if do_nee:
+        ei = media.pick(emt.emit_cdf, emt.emit_prob.shape[0], rnd_f(sampler, key, pseed, s, dim, n_total))
+        wx, wy, wz, dist, lpdf, fac = _emitter_sample(
+            ei, rnd_f(sampler, key, pseed, s, dim + 1, n_total),
+            rnd_f(sampler, key, pseed, s, dim + 2, n_total), px, py, pz, lam, le, geo, mat, emt, st)
+        media.nee((px, py, pz), (dx, dy, dz), g, (wx, wy, wz, dist, lpdf, fac, emt.emit_prob[ei]), le, vol, lam,
+                  beta, rad, mw, geo, mat.model, med, eps, scr.stack)
+    dim += 3
+    dx, dy, dz, prev_pdf = media.hg_sample(g, dx, dy, dz,
+                                           rnd_f(sampler, key, pseed, s, dim, n_total),
+                                           rnd_f(sampler, key, pseed, s, dim + 1, n_total))
+    dim += 2
+    depth += 1
+    alive, dim = _roulette(st, smp, beta, media.live_max(beta, pdf_lam), depth, dim)
+    return alive, px, py, pz, dx, dy, dz, prev_pdf, depth, dim
+
+
+@fragment
+def _hit_point(geo, o, d, t, prim):
+    """The surface hit at t along (o, d) on triangle ``prim``: (ok, px, py, pz, nx, ny, nz,
+    area, cos_i) with n the unit geometric normal, area the triangle's, cos_i = -n·d; ok
+    False for a degenerate triangle (the rest is then meaningless)."""
+    ox, oy, oz = o
+    dx, dy, dz = d
+    px = ox + t * dx
+    py = oy + t * dy
+    pz = oz + t * dz
+    nx, ny, nz = triangle_normal(geo.e1, geo.e2, prim)
+    nlen = math.sqrt(nx * nx + ny * ny + nz * nz)
+    if nlen == 0.0:
+        return False, px, py, pz, nx, ny, nz, 0.0, 0.0
+    area = 0.5 * nlen
+    nx /= nlen
+    ny /= nlen
+    nz /= nlen
+    cos_i = -(nx * dx + ny * dy + nz * dz)
+    return True, px, py, pz, nx, ny, nz, area, cos_i
+
+
+@fragment
+def _shading_normal(geo, prim, bu, bv, n, d, cos_i):
+    """The shading normal at barycentrics (bu, bv) of ``prim``: the vertex normals
+    interpolated, on the geometric normal n's side; n itself where the two disagree about the
+    side the ray (direction d) comes from, and for flat shading."""
+    nx, ny, nz = n
+    dx, dy, dz = d
+    tri_nrm = geo.tri_nrm
+    snx = nx
+    sny = ny
+    snz = nz
+    if tri_nrm.shape[0] > 0:
+        b0 = 1.0 - bu - bv
+        qx = b0 * tri_nrm[prim, 0] + bu * tri_nrm[prim, 3] + bv * tri_nrm[prim, 6]
+        qy = b0 * tri_nrm[prim, 1] + bu * tri_nrm[prim, 4] + bv * tri_nrm[prim, 7]
+        qz = b0 * tri_nrm[prim, 2] + bu * tri_nrm[prim, 5] + bv * tri_nrm[prim, 8]
+        ql = math.sqrt(qx * qx + qy * qy + qz * qz)
+        if ql > 0.0:
+            if qx * nx + qy * ny + qz * nz < 0.0:
+                ql = -ql
+            qx /= ql
+            qy /= ql
+            qz /= ql
+            if -(qx * dx + qy * dy + qz * dz) * cos_i > 0.0:
+                snx = qx
+                sny = qy
+                snz = qz
+    return snx, sny, snz
+
+
+@fragment
+def _first_hit(fr, geo, st, x, y, prim, m, sn, d, t):
+    """The camera ray's hit on ``prim`` (material m) at distance t: the normal, depth and hit
+    count AOVs of pixel (x, y), then holdouts and sensors. Returns (material, transparent):
+    transparent True ends the path, the pixel counting as transparent (a holdout, or in
+    measuring mode anything but a sensor); a sensor's hit takes the sensors' material."""
+    snx, sny, snz = sn
+    dx, dy, dz = d
+    aov = fr.aov
+    tri_flag = geo.tri_flag
+    sensor_mat = st.sensor_mat
+    fs = 1.0 if snx * dx + sny * dy + snz * dz <= 0.0 else -1.0
+    aov[y, x, 3] += fs * snx
+    aov[y, x, 4] += fs * sny
+    aov[y, x, 5] += fs * snz
+    aov[y, x, 6] += t
+    aov[y, x, 7] += 1.0
+    if tri_flag.shape[0] > 0:
+        if sensor_mat >= 0:
+            if (tri_flag[prim] & 1) == 0:
+                return m, True
+            m = sensor_mat  # white two-sided Lambert, emission ignored
+        elif (tri_flag[prim] & 2) != 0:  # holdout: a hole in the film
+            return m, True
+    return m, False
+
+
+@fragment
+def _emission(geo, mat, emt, st, cfg, scr, o, hit, t, prim, m, prev_delta, prev_pdf):
+    """Material m's emitted radiance at the hit (hit = (px, py, pz, nx, ny, nz, area, cos_i),
+    t along the ray from o) added to L: from both sides (Blender's Emission shader) or the
+    front side only. Unless the previous vertex was a delta event or NEE is off, weighted by
+    the power heuristic against the NEE's pdf of this direction, under the NEE's rule for
+    (origin, triangle): 1/Ω when it samples the solid angle, else by area."""
+    do_nee = cfg[0]
+    ox, oy, oz = o
+    px, py, pz, nx, ny, nz, area, cos_i = hit
+    mat_emis = mat.emis
+    v0 = geo.v0
+    sph_lo = st.sph_lo
+    sph_hi = st.sph_hi
+    beta = scr.work[2]
+    rad = scr.work[3]
+    lf = scr.work[10]
+    lc = scr.lc
+    if mat_emis[m] >= 0 and (cos_i > 0.0 or (cos_i < 0.0 and mat.emis_two[m] != 0)):
+        w = 1.0
+        if not prev_delta and do_nee:
+            om = 0.0
+            hp = (ox - v0[prim, 0]) * nx + (oy - v0[prim, 1]) * ny + (oz - v0[prim, 2]) * nz
+            if sph_lo <= sph_hi and area >= sph_lo * hp * hp:  # Ω ≤ A / h², as in the NEE
+                # np.int64: one signature of _sph_triangle for every caller
+                om, _wx, _wy, _wz = _sph_triangle(np.int64(prim), ox, oy, oz, v0, geo.e1, geo.e2, sph_lo,
+                                                  sph_hi, -1.0, 0.0)
+            if om > 0.0:
+                pl = emt.emit_prob[geo.tri_emitter[prim]] / om
+            else:
+                pl = emt.emit_prob[geo.tri_emitter[prim]] * t * t / (area * abs(cos_i))
+            w = power_heuristic(prev_pdf, pl)
+        for i in range(NW):
+            rad[i] += beta[i] * w * mat.emis_scale[m] * at(mat.spec, mat_emis[m], lc[i], lf[i])
+
+
+@fragment
+def _pick_component(mat, st, smp, m, dim):
+    """Mixes: one component of material m picked (Mix: by weight; Add: either, counted
+    twice), one dimension per level. Returns (material, weight, dim)."""
+    key, pseed, s = smp
+    mat_p = mat.params
+    mix_w = 1.0
+    for _ in range(C.MIX_DEPTH):
+        mm = mat.model[m]
+        if mm == C.MAT_MIX:
+            u = rnd_f(st.sampler, key, pseed, s, dim, st.n_total)
+            m = int(mat_p[m, 1]) if u < mat_p[m, 0] else int(mat_p[m, 2])
+            dim += 1
+        elif mm == C.MAT_ADD:
+            m = int(mat_p[m, 1]) if rnd_f(st.sampler, key, pseed, s, dim, st.n_total) < 0.5 else int(mat_p[m, 2])
+            mix_w *= 2.0
+            dim += 1
+        else:
+            break
+    return m, mix_w, dim
+
+
+@fragment
+def _surface_material(mat, txr, cfg, scr, m, prim, bu, bv, sn, d, cos_i):
+    """Material m at the hit: ρa, ρb, η and κ at the path's wavelengths into the scratch
+    rows, then its image textures (base colour into ρa, roughness into the scratch parameter
+    row, the normal map into the shading normal sn). Returns (base colour textured,
+    roughness textured, r, g, b, shading normal)."""
+    has_tex = cfg[3]
+    work = scr.work
+    lf = work[10]
+    tex_base = False
+    rough = False
+    cr = 0.0
+    cg = 0.0
+    cb = 0.0
+    snx, sny, snz = sn
+    _lookup_material(m, scr.lc, lf, mat.spec, mat.ior_tab, mat.ra, mat.rb, mat.eta, mat.kappa, mat.ior,
+                     work[4], work[5], work[6], work[7])
+    if has_tex:
+        mat_tex = txr.mat_tex
+        if mat_tex[m, 0] >= 0 or mat_tex[m, 1] >= 0 or mat_tex[m, 2] >= 0:
+            tex_base, rough, cr, cg, cb, snx, sny, snz = _textures(
+                m, np.int64(prim), bu, bv, sn, d, cos_i, mat.params[m], scr, mat.spec, txr)
+    return tex_base, rough, cr, cg, cb, snx, sny, snz
+
+
+@fragment
+def _shading_frame(sn, d):
+    """The local frame around the shading normal sn (Duff et al. 2017) and the direction
+    towards the ray's origin in it: (snx, sny, snz, tx, ty, tz, cx, cy, cz, wox, woy, woz)."""
+    snx, sny, snz = sn
+    dx, dy, dz = d
+    sgn = 1.0 if snz >= 0.0 else -1.0
+    aa = -1.0 / (sgn + snz)
+    bb = snx * sny * aa
+    tx = 1.0 + sgn * snx * snx * aa
+    ty = sgn * bb
+    tz = -sgn * snx
+    cx = bb
+    cy = sgn + sny * sny * aa
+    cz = -sny
+    wox = -(dx * tx + dy * ty + dz * tz)
+    woy = -(dx * cx + dy * cy + dz * cz)
+    woz = -(dx * snx + dy * sny + dz * snz)
+    return snx, sny, snz, tx, ty, tz, cx, cy, cz, wox, woy, woz
+
+
+@fragment
+def _albedo(mat, txr, m, tex_base, rgb, mix_w, axyz):
+    """The albedo AOV's XYZ at the first diffuse or glossy hit: the textured base colour's
+    (rgb weighing the reflectance basis rows) or material m's ρa, times the mix weight; axyz
+    (the values so far) when it has neither."""
+    spec_alb = mat.spec_alb
+    tex_row = txr.tex_row
+    cr, cg, cb = rgb
+    aX, aY, aZ = axyz
+    if tex_base:
+        aX = mix_w * (cr * spec_alb[tex_row, 0] + cg * spec_alb[tex_row + 1, 0]
+                      + cb * spec_alb[tex_row + 2, 0])
+        aY = mix_w * (cr * spec_alb[tex_row, 1] + cg * spec_alb[tex_row + 1, 1]
+                      + cb * spec_alb[tex_row + 2, 1])
+        aZ = mix_w * (cr * spec_alb[tex_row, 2] + cg * spec_alb[tex_row + 1, 2]
+                      + cb * spec_alb[tex_row + 2, 2])
+    elif mat.ra[m] >= 0:
+        aX = mix_w * spec_alb[mat.ra[m], 0]
+        aY = mix_w * spec_alb[mat.ra[m], 1]
+        aZ = mix_w * spec_alb[mat.ra[m], 2]
+    return aX, aY, aZ
+
+
+@fragment
+def _surface_nee(geo, mat, emt, med, st, smp, cfg, scr, dim, hit, shade, prim, model, pm, mix_w, vol):
+    """Next-event estimation at a surface hit: one emitter picked in proportion to its power
+    (dimension dim), a point or direction on it (dim + 1, dim + 2), the BSDF (model, pm) at
+    the hit (hit = (px, py, pz, nx, ny, nz, area, cos_i); shade from ``_shading_frame``) and a
+    shadow ray through the media ``vol`` = (medium, outer); the light's contribution, MIS
+    weighted against BSDF sampling (delta lights: NEE only), added to L."""
+    eps = cfg[1]
+    has_media = cfg[2]
+    px, py, pz, nx, ny, nz, area, cos_i = hit
+    snx, sny, snz, tx, ty, tz, cx, cy, cz, wox, woy, woz = shade
+    key, pseed, s = smp
+    sampler = st.sampler
+    n_total = st.n_total
+    work = scr.work
+    lam = work[0]
+    beta = work[2]
+    rad = work[3]
+    ra = work[4]
+    fv = work[8]
+    le = work[9]
+    lf = work[10]
+    lc = scr.lc
+    v0 = geo.v0
+    e1 = geo.e1
+    e2 = geo.e2
+    emit_tri = emt.emit_tri
+    ue = rnd(sampler, key, pseed, s, dim, n_total)
+    ei = media.pick(emt.emit_cdf, emt.emit_prob.shape[0], ue)
+    ua, ub = rnd2(sampler, key, pseed, s, dim + 1, n_total)
+    if emit_tri[ei] >= 0:  # emissive triangles inline: no function call
+        wx, wy, wz, dist, lpdf, fac, l_row, l_scale = _triangle_sample(
+            emit_tri[ei], ua, ub, px, py, pz, v0, e1, e2, geo.tri_mat, mat.emis, mat.emis_scale,
+            mat.emis_two, st.sph_lo, st.sph_hi)
+        for i in range(NW):
+            le[i] = l_scale * at(mat.spec, l_row, lc[i], lf[i])
+    else:
+        wx, wy, wz, dist, lpdf, fac = _emitter_sample(ei, ua, ub, px, py, pz, lam, le, geo, mat, emt, st)
+    cos_n = snx * wx + sny * wy + snz * wz
+    if fac > 0.0 and lpdf > 0.0 and cos_n * (nx * wx + ny * wy + nz * wz) > 0.0:
+        wix = wx * tx + wy * ty + wz * tz
+        wiy = wx * cx + wy * cy + wz * cz
+        if model == C.MAT_LAMBERT:
+            pb = _lambert_eval(pm, ra, woz, cos_n, fv)
+        else:
+            pb = bsdf_eval(model, pm, ra, work[5], work[6], work[7], wox, woy, woz, wix, wiy, cos_n, fv)
+        fmax = 0.0
+        for i in range(NW):
+            fmax = max(fmax, fv[i])
+        if fmax > 0.0:
+            side = 1.0 if cos_n > 0.0 else -1.0
+            sox = px + side * eps * nx
+            soy = py + side * eps * ny
+            soz = pz + side * eps * nz
+            tmax_s = _shadow_tmax(dist, eps, emit_tri[ei], sox, soy, soz, wx, wy, wz, v0, e1, e2)
+            if media.unoccluded(has_media, (sox, soy, soz), (wx, wy, wz), tmax_s, vol,
+                                med.mat_medium[geo.tri_mat[prim]], cos_i, cos_n, lam, scr.mw, fv, geo,
+                                mat.model, med, eps, scr.stack):
+                pe = emt.emit_prob[ei]
+                if lpdf == np.inf:  # delta light: NEE only, no MIS
+                    g = mix_w * abs(cos_n) * fac / pe
+                else:
+                    pl = pe * lpdf
+                    g = mix_w * power_heuristic(pl, pb) * abs(cos_n) * fac / pl
+                for i in range(NW):
+                    rad[i] += beta[i] * fv[i] * g * le[i]
+
+
+@fragment
+def _bsdf_step(mat, st, smp, cfg, scr, dim, wo, model, pm, mix_w, dispersed):
+    """BSDF sampling at a surface hit: a direction from the BSDF (model, pm) for the outgoing
+    direction wo (local frame; dimensions dim .. dim + 2), β multiplied by f cos / pdf and
+    the mix weight; after the first dispersive event only the hero wavelength goes on.
+    Returns (flags, wix, wiy, wiz, pdf, largest live throughput, dispersed, dim); flags 0:
+    the path ends."""
+    has_media = cfg[2]
+    wox, woy, woz = wo
+    key, pseed, s = smp
+    sampler = st.sampler
+    n_total = st.n_total
+    work = scr.work
+    pdf_lam = work[1]
+    beta = work[2]
+    ra = work[4]
+    fv = work[8]
+    u1, u2 = rnd2(sampler, key, pseed, s, dim, n_total)
+    if model == C.MAT_LAMBERT:
+        wix, wiy, wiz, pdf, flags = _lambert_sample(pm, ra, woz, u1, u2, fv)
+    else:
+        wix, wiy, wiz, pdf, flags = bsdf_sample(model, pm, ra, work[5], work[6], work[7], wox, woy, woz, u1, u2,
+                                                rnd(sampler, key, pseed, s, dim + 2, n_total), fv)
+    dim += 3
+    if flags == 0:
+        return flags, wix, wiy, wiz, pdf, 0.0, dispersed, dim
+    if (flags & BSDF_DISPERSIVE) != 0 and not dispersed:
+        if has_media:
+            media.drop_companions(beta, scr.mw)
+        else:
+            terminate_secondary(pdf_lam)
+        dispersed = True
+    q = 0.0
+    for i in range(NW):
+        beta[i] *= fv[i] * mix_w
+        if pdf_lam[i] > 0.0:
+            q = max(q, beta[i])
+    return flags, wix, wiy, wiz, pdf, q, dispersed, dim
+
+
+@fragment
+def _next_ray(geo, med, cfg, scr, hit, shade, wi, prim, vol):
+    """The sampled direction wi (local frame of ``shade``) in world space and the next ray's
+    origin, offset from the hit to the side it leaves; a transmitted ray crosses into or out
+    of the interior medium of ``prim``'s material (vol = (medium, outer)). Returns (ok, ox,
+    oy, oz, dx, dy, dz, medium, outer); ok False: wi lies below the geometric surface on the
+    shading normal's side (a leak: the path ends)."""
+    eps = cfg[1]
+    has_media = cfg[2]
+    px, py, pz, nx, ny, nz, area, cos_i = hit
+    snx, sny, snz, tx, ty, tz, cx, cy, cz, wox, woy, woz = shade
+    wix, wiy, wiz = wi
+    medium, outer = vol
+    dx = wix * tx + wiy * cx + wiz * snx
+    dy = wix * ty + wiy * cy + wiz * sny
+    dz = wix * tz + wiy * cz + wiz * snz
+    cgeo = nx * dx + ny * dy + nz * dz
+    if cgeo * wiz <= 0.0:
+        return False, px, py, pz, dx, dy, dz, medium, outer
+    side = 1.0 if cgeo > 0.0 else -1.0
+    ox = px + side * eps * nx
+    oy = py + side * eps * ny
+    oz = pz + side * eps * nz
+    if has_media and (cgeo > 0.0) != (cos_i > 0.0):  # transmitted: into or out of the interior
+        medium, outer = media.cross(medium, outer, med.mat_medium[geo.tri_mat[prim]], cgeo < 0.0, med.med_tab,
+                                    scr.work[0], scr.mw)
+    return True, ox, oy, oz, dx, dy, dz, medium, outer
+
+
+@fragment
+def _film_add(fr, y, x, scr, axyz, transp, photometric):
+    """The path's estimate into pixel (x, y) of the film record: XYZ, count, Y² and the
+    spectral bins (``_splat``), the albedo AOV's XYZ and the transparent-sample count."""
+    work = scr.work
+    aov = fr.aov
+    _splat(fr.sums, fr.spectral, y, x, work[3], work[1], work[0], fr.cmf, photometric)
+    aov[y, x, 0] += axyz[0]
+    aov[y, x, 1] += axyz[1]
+    aov[y, x, 2] += axyz[2]
+    aov[y, x, 8] += transp
 
 
 @kernel(refcount=False)
-def render_rows(film, y0, y1, s0, s1, seed, max_depth, rr_depth, scene_scale, cam, filt,
-                nodes, tris, v0, e1, e2, tri_mat, tri_emitter,
-                mat_model, mat_p, mat_ra, mat_rb, mat_eta, mat_kappa, mat_ior, ior_tab,
-                mat_emis, mat_emis_scale, mat_emis_two,
-                spec, cmf,
-                light_kind, light_geo, light_prof, light_spec, light_scale, light_two_sided, light_visible,
-                emit_cdf, emit_prob, emit_tri, emit_light,
-                world_spec, world_scale, world_img, world_dist, world_par, world_row, world_emit,
-                spectral, aov, tri_nrm, spec_alb, sampler, n_total, mat_medium, med_tab, med_g, cam_medium, nee,
-                tri_flag, sensor_mat, film_transparent,
-                tri_tex, tex_data, tex_info, mat_tex, mat_nstr, tex_row, sph_lo, sph_hi, work, mw, pm_tex, lc, stack):
-    """Add samples s0 .. s1-1 of every pixel of rows y0 .. y1-1 to ``film`` (H, W, 5) float64.
+def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr):
+    """Add samples s0 .. s1-1 of every pixel of rows y0 .. y1-1 to the film record ``fr``.
 
-    cmf: (N_LAMBDA, 3) x̄, ȳ, z̄ of the observer, or (N_LAMBDA, 4) with V(λ) in column 3 when
-    the observer is not CIE 1931: then ``film`` has a 6th channel, the V-weighted Y, and
-    channel 4 sums its square (photometric quantities do not depend on the observer).
+    The records (each field documented where it is defined): fr core/film/record.py, geo
+    core/geometry/record.py, mat core/bsdfs/record.py, emt core/lights/record.py, med
+    core/media/record.py, txr core/textures/record.py, camr core/camera/record.py, st
+    core/integrators/settings.py, scr ``Scratch``.
 
     A serial kernel that releases the GIL: the renderer runs blocks of rows on a pool of
     Python threads (compiling a prange kernel takes four times as long, and numba's
     threading layers abort the process on concurrent launches). Rows never overlap, so
-    the film does not depend on the number of threads.
-
-    cam: the camera vector and filt the pixel filter's distribution (core/kernels/camera.py).
-
-    Materials: mat_model (MAT_* tags) and mat_p (K, 16) rows for core.bsdfs; spectral
-    inputs ra/rb (rows of ``spec``, -1: 0 / 1), η (row of ``ior_tab`` or the constant
-    mat_ior) and κ (row of ``ior_tab`` or 0). MAT_MIX/MAT_ADD pick one component per hit.
-
-    sampler: SAMPLER_* tag (independent, Halton, Hammersley); n_total: the render's
-    total samples per pixel (Hammersley's n).
-
-    World: a constant spectrum (world_spec row, world_scale), or, when world_par[3] > 0, the
-    equirectangular image world_img (H, W, 3) whose texel rgb weighs the three spectrum rows
-    world_row.. (the emission basis), scaled by world_par[2], importance sampled by
-    world_dist (see lights.env_*), entry world_emit of the emitter table.
-
-    Shading normals: tri_nrm (T, 9) float32, the three vertex normals of each triangle in
-    leaf order (0 rows: flat shading), interpolated with the hit's barycentrics and turned
-    to the geometric normal's side; the geometric normal still decides ray offsets and
-    which side a direction is on (a direction on different sides of the two normals
-    contributes nothing: no light leaks through shading normals).
-
-    aov: (H, W, 8) float64 sums per sample: 0-2 CIE XYZ of the first non-delta hit's
-    reflectance (ra) under D65 (spec_alb: (S, 3) XYZ of each spectrum row under D65 of
-    Y = 1, precomputed, so the pass carries no colour noise), 3-5 the
-    first hit's shading normal facing the camera, 6 the first hit's distance along the
-    camera ray, 7 the number of samples whose camera ray hit something, 8 the number of
-    samples that left the pixel transparent (alpha = 1 - that / samples; see below).
-
-    Holdout, transparent film and illuminance sensors: tri_flag (T,) int8 in leaf order
-    (0 entries: no flags), bit 1 a sensor triangle, bit 2 a holdout triangle. A camera ray
-    whose first hit is a holdout triangle ends there with no radiance and counts as
-    transparent; with film_transparent != 0 a camera ray that hits nothing counts as
-    transparent and adds no world radiance (the world still lights the scene).
-    sensor_mat ≥ 0 turns on measuring mode: the camera ray's first hit, if it is a sensor
-    triangle, takes material sensor_mat (a white two-sided Lambert, no emission) instead of
-    its own, every deeper vertex its real material, so the pixel's radiance is E/π; camera
-    rays that hit no sensor (or nothing) end at once, count as transparent, and analytic
-    lights seen by camera rays are ignored.
-
-    spectral: (H, W, B) float64 sums of the spectral radiance averaged over B equal bins
-    of [LMIN, LMAX] (W/(m² sr nm)); pass a (1, 1, 0) array to skip it.
-
-    light_geo: float64 (L, lights.LG_SIZE), layout in core/kernels/lights.py; light_prof: float64,
-    the photometric profiles of the lights that have one, concatenated (offsets in light_geo
-    column LG_PROF; at least one element); light_scale turns
-    a light's spectrum shape into its radiance (or intensity / illuminance for delta lights).
-    emit_*: the emitter distribution over emissive triangles (emit_tri ≥ 0, leaf order)
-    and analytic lights (emit_light ≥ 0); emit_cdf has E + 1 entries.
-
-    Media (core/kernels/media.py): mat_medium (K,) interior medium of each material (-1
-    none); med_tab (2 M, N_LAMBDA) σa, σs rows per medium in 1/m, (0, N_LAMBDA) when the
-    scene has neither media nor null surfaces (then nothing of this runs); med_g (M,) HG
-    anisotropy; cam_medium the camera's medium.
-
-    Image textures (core/textures.py, lookups in core/kernels/textures.py): tri_tex (T, 10)
-    float32 per leaf triangle, its corners' UVs, tangent ∂p/∂u and UV handedness ((0, 10):
-    no material has a texture, and none of this runs); tex_data / tex_info the texels of all
-    textures and their table; mat_tex (K, 3) each material's base colour, roughness and
-    normal texture (-1 none), mat_nstr (K,) its normal strength; tex_row the first of the
-    three reflectance basis rows of ``spec`` a base colour texel's rgb weighs.
-
-    Emissive triangles (compendium item 22): seen from a shading point under a solid angle Ω
-    in [sph_lo, sph_hi] sr, a triangle is sampled uniformly in Ω (Arvo's spherical triangle,
-    pdf 1/Ω), otherwise by area (pdf r² / (A cos θ)); the MIS weight of a BSDF-sampled ray that
-    hits an emissive triangle applies the same rule to the ray's origin. sph_lo > sph_hi turns
-    the solid-angle branch off (area sampling only).
-
-    work, mw, pm_tex, lc, stack: scratch arrays from ``scratch`` (the kernel allocates
-    nothing, so it runs without numba's reference counting).
+    the film does not depend on the number of threads. Each bounce: ``_segment`` (trace,
+    free flight, analytic lights), ``_medium_scatter`` or the world or a surface hit
+    (``_hit_point``, ``_shading_normal``, ``_first_hit``: AOVs, holdouts, sensors;
+    ``_emission``; ``_pick_component``, ``_surface_material``; ``_surface_nee``;
+    ``_bsdf_step``, ``_next_ray``, ``_roulette``); then ``_film_add``. The fragments are
+    inlined into this body by numba (core/jit.py ``fragment``).
     """
-    height = film.shape[0]
-    width = film.shape[1]
-    n_emit = emit_prob.shape[0]
-    n_lights = light_kind.shape[0]
+    height = fr.sums.shape[0]
+    width = fr.sums.shape[1]
     # nee = 0: the naive reference integrator (BSDF and phase sampling only, every emitter hit
     # counted with weight 1), against which tests check the NEE + MIS estimator
-    do_nee = nee != 0 and n_emit > 0
-    eps = EPS_REL * scene_scale
-    has_media = med_tab.shape[0] > 0
-    has_tex = tri_tex.shape[0] > 0
-    thin_lens = cam[CAM_LENS_R] > 0.0
+    do_nee = st.nee != 0 and emt.emit_prob.shape[0] > 0
+    eps = EPS_REL * st.scene_scale
+    has_media = med.med_tab.shape[0] > 0
+    # (do NEE, ray offset, media present, textures present)
+    cfg = (do_nee, eps, has_media, txr.tri_tex.shape[0] > 0)
+    thin_lens = camr.cam[CAM_LENS_R] > 0.0
     # a 4th cmf column is V(λ) (an observer other than CIE 1931): the film's channel 5 sums
     # the photometric Y and channel 4 its square; else Y is photometric (5 channels)
-    photometric = cmf.shape[1] > 3 and film.shape[2] > 5
+    photometric = fr.cmf.shape[1] > 3 and fr.sums.shape[2] > 5
+    beta = scr.work[2]
     for y in range(y0, y1):
-        lam = work[0]
-        pdf_lam = work[1]
-        beta = work[2]
-        rad = work[3]
-        ra = work[4]
-        rb = work[5]
-        eta = work[6]
-        kappa = work[7]
-        fv = work[8]
-        le = work[9]
-        lf = work[10]
         for x in range(width):
             pix = y * width + x
-            pseed = pixel_seed(seed, pix)
+            pseed = pixel_seed(st.seed, pix)
             for s in range(s0, s1):
-                key = path_key(seed, pix, s)
-                u0 = rnd_f(sampler, key, pseed, s, np.int64(0), n_total)
-                for i in range(NW):
-                    up = u0 + i / NW
-                    if up >= 1.0:
-                        up -= 1.0
-                    lam[i], pdf_lam[i] = sample_visible(up)
-                    lc[i], lf[i] = lam_cell(lam[i])
-                    beta[i] = 1.0
-                    rad[i] = 0.0
-                # camera ray: dimensions 1-2 the pixel filter, 3-4 the lens (drawn only for a
-                # thin lens: a pinhole ignores them, and each dimension is a pure function of
-                # its number, so skipping them changes nothing else)
-                u3 = 0.5
-                u4 = 0.5
-                if thin_lens:
-                    u3 = rnd_f(sampler, key, pseed, s, np.int64(3), n_total)
-                    u4 = rnd_f(sampler, key, pseed, s, np.int64(4), n_total)
-                ox, oy, oz, dx, dy, dz = camera_ray(cam, filt, x, y, width, height,
-                                                    rnd_f(sampler, key, pseed, s, np.int64(1), n_total),
-                                                    rnd_f(sampler, key, pseed, s, np.int64(2), n_total), u3, u4)
+                smp = (path_key(st.seed, pix, s), pseed, s)
+                ox, oy, oz, dx, dy, dz = _camera_sample(camr, st, smp, x, y, width, height, thin_lens, scr)
                 dim = np.int64(5)
                 depth = 0
                 prev_pdf = 0.0
                 prev_delta = True  # the camera ray: emitters seen directly get full weight
                 dispersed = False
                 alb_done = False
-                aX = 0.0
-                aY = 0.0
-                aZ = 0.0
-                medium = cam_medium
+                axyz = (0.0, 0.0, 0.0)
+                medium = med.cam_medium
                 outer = np.int64(-1)  # np.int64: a literal -1 would compile media.shadow/nee/cross twice
                 transp = 0.0
                 t_lo = 0.0  # the ray goes on from here after passing null surfaces
                 if has_media:
-                    media.start_path(med_tab, medium, lam, mw)
+                    media.start_path(med.med_tab, medium, scr.work[0], scr.mw)
                 while True:
-                    t, prim, bu, bv = trace_closest(ox, oy, oz, dx, dy, dz, t_lo, np.inf,
-                                                  nodes, tris, stack)
-                    t_end = t
-                    if medium >= 0:
-                        t_end = min(t, t_lo + media.free_flight(medium, mw, rnd_f(sampler, key, pseed, s, dim, n_total)))
-                        dim += 1
-                    # analytic lights: hit for their emission, never occluders (as in Cycles)
-                    if n_lights > 0:
-                        _light_hits(depth == 0 and sensor_mat >= 0, np.int64(depth), prim >= 0 or t_end < t, t_end, t_lo,
-                                    ox, oy, oz, dx, dy, dz, prev_delta or not do_nee, prev_pdf, medium, mw, beta, rad,
-                                    lc, lf, spec, light_kind, light_geo, light_prof, light_spec, light_scale,
-                                    light_two_sided, light_visible, emit_prob)
+                    t, prim, bu, bv, t_end, dim = _segment(geo, mat, emt, st, smp, cfg, scr, (ox, oy, oz),
+                                                           (dx, dy, dz), t_lo, medium, depth, dim, prev_delta, prev_pdf)
                     if medium >= 0:
                         if t_end < t:  # a scattering event in the medium
-                            media.segment(medium, mw, beta, t_end - t_lo, t_end < t)  # True here, not as a literal
-                            if depth > max_depth:
+                            alive, ox, oy, oz, dx, dy, dz, prev_pdf, depth, dim = _medium_scatter(
+                                geo, mat, emt, med, st, smp, cfg, scr, (ox, oy, oz), (dx, dy, dz), (t, t_end, t_lo),
+                                (medium, outer), depth, dim)
+                            if not alive:
                                 break
-                            px = ox + t_end * dx
-                            py = oy + t_end * dy
-                            pz = oz + t_end * dz
-                            g = med_g[medium]
-                            if do_nee:
-                                ei = media.pick(emit_cdf, n_emit, rnd_f(sampler, key, pseed, s, dim, n_total))
-                                wx, wy, wz, dist, lpdf, fac = _emitter_sample(
-                                    ei, rnd_f(sampler, key, pseed, s, dim + 1, n_total),
-                                    rnd_f(sampler, key, pseed, s, dim + 2, n_total), px, py, pz, lam, le, v0, e1, e2,
-                                    tri_mat, mat_emis, mat_emis_scale, mat_emis_two, spec, light_kind, light_geo,
-                                    light_prof, light_spec, light_scale, light_two_sided, emit_tri, emit_light,
-                                    world_img,
-                                    world_dist, world_par, world_row, sph_lo, sph_hi)
-                                media.nee(px, py, pz, dx, dy, dz, g, wx, wy, wz, dist, lpdf, fac, le, emit_prob[ei],
-                                          medium, outer, lam, beta, rad, mw, nodes, tris, v0, e1,
-                                          e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack)
-                            dim += 3
-                            dx, dy, dz, prev_pdf = media.hg_sample(g, dx, dy, dz,
-                                                                   rnd_f(sampler, key, pseed, s, dim, n_total),
-                                                                   rnd_f(sampler, key, pseed, s, dim + 1, n_total))
-                            dim += 2
                             prev_delta = False
-                            ox = px
-                            oy = py
-                            oz = pz
                             t_lo = 0.0
-                            depth += 1
-                            q = media.live_max(beta, pdf_lam)
-                            if q <= 0.0:
-                                break
-                            if depth >= rr_depth:
-                                if q < 1.0:
-                                    if rnd_f(sampler, key, pseed, s, dim, n_total) >= q:
-                                        break
-                                    for i in range(NW):
-                                        beta[i] /= q
-                                dim += 1
                             continue
-                        media.segment(medium, mw, beta, t - t_lo, t_end < t)  # False here, not as a literal
+                        media.segment(medium, scr.mw, beta, t - t_lo, t_end < t)  # False here, not as a literal
                     if prim < 0:
-                        if depth == 0 and (film_transparent != 0 or sensor_mat >= 0):
+                        if depth == 0 and (st.film_transparent != 0 or st.sensor_mat >= 0):
                             transp = 1.0
                             break
-                        if world_par[3] > 0.0 or world_spec >= 0:
-                            _world_hit(dx, dy, dz, prev_delta or not do_nee, prev_pdf, beta, rad, lc, lf, spec,
-                                       world_spec, world_scale, world_img, world_dist, world_par, world_row,
-                                       world_emit, emit_prob)
+                        if emt.world_par[3] > 0.0 or emt.world_spec >= 0:
+                            _world_hit((dx, dy, dz), prev_delta or not do_nee, prev_pdf, scr, mat.spec, emt)
                         break
-                    px = ox + t * dx
-                    py = oy + t * dy
-                    pz = oz + t * dz
-                    nx, ny, nz = triangle_normal(e1, e2, prim)
-                    nlen = math.sqrt(nx * nx + ny * ny + nz * nz)
-                    if nlen == 0.0:
+                    ok, px, py, pz, nx, ny, nz, area, cos_i = _hit_point(geo, (ox, oy, oz), (dx, dy, dz), t, prim)
+                    if not ok:
                         break
-                    area = 0.5 * nlen
-                    nx /= nlen
-                    ny /= nlen
-                    nz /= nlen
-                    cos_i = -(nx * dx + ny * dy + nz * dz)
-                    if mat_model[tri_mat[prim]] == C.MAT_NULL:  # only bounds a medium: go straight on
-                        medium, outer = media.cross(medium, outer, mat_medium[tri_mat[prim]], cos_i > 0.0, med_tab,
-                                                    lam, mw)
+                    if mat.model[geo.tri_mat[prim]] == C.MAT_NULL:  # only bounds a medium: go straight on
+                        medium, outer = media.cross(medium, outer, med.mat_medium[geo.tri_mat[prim]], cos_i > 0.0,
+                                                    med.med_tab, scr.work[0], scr.mw)
                         t_lo = t + eps
                         continue
-                    # shading normal: interpolated, on the geometric normal's side; the geometric
-                    # one where the two disagree about the side the ray comes from
-                    snx = nx
-                    sny = ny
-                    snz = nz
-                    if tri_nrm.shape[0] > 0:
-                        b0 = 1.0 - bu - bv
-                        qx = b0 * tri_nrm[prim, 0] + bu * tri_nrm[prim, 3] + bv * tri_nrm[prim, 6]
-                        qy = b0 * tri_nrm[prim, 1] + bu * tri_nrm[prim, 4] + bv * tri_nrm[prim, 7]
-                        qz = b0 * tri_nrm[prim, 2] + bu * tri_nrm[prim, 5] + bv * tri_nrm[prim, 8]
-                        ql = math.sqrt(qx * qx + qy * qy + qz * qz)
-                        if ql > 0.0:
-                            if qx * nx + qy * ny + qz * nz < 0.0:
-                                ql = -ql
-                            qx /= ql
-                            qy /= ql
-                            qz /= ql
-                            if -(qx * dx + qy * dy + qz * dz) * cos_i > 0.0:
-                                snx = qx
-                                sny = qy
-                                snz = qz
+                    sn = _shading_normal(geo, prim, bu, bv, (nx, ny, nz), (dx, dy, dz), cos_i)
+                    m = geo.tri_mat[prim]
                     if depth == 0:
-                        fs = 1.0 if snx * dx + sny * dy + snz * dz <= 0.0 else -1.0
-                        aov[y, x, 3] += fs * snx
-                        aov[y, x, 4] += fs * sny
-                        aov[y, x, 5] += fs * snz
-                        aov[y, x, 6] += t
-                        aov[y, x, 7] += 1.0
-                    m = tri_mat[prim]
-                    if depth == 0 and tri_flag.shape[0] > 0:
-                        if sensor_mat >= 0:
-                            if (tri_flag[prim] & 1) == 0:
-                                transp = 1.0
-                                break
-                            m = sensor_mat  # white two-sided Lambert, emission ignored
-                        elif (tri_flag[prim] & 2) != 0:  # holdout: a hole in the film
+                        m, transparent = _first_hit(fr, geo, st, x, y, prim, m, sn, (dx, dy, dz), t)
+                        if transparent:
                             transp = 1.0
                             break
-                    # emission: both sides (Blender's Emission shader) or the front side only
-                    if mat_emis[m] >= 0 and (cos_i > 0.0 or (cos_i < 0.0 and mat_emis_two[m] != 0)):
-                        w = 1.0
-                        if not prev_delta and do_nee:
-                            # the light pdf of this direction under the NEE's rule for (origin,
-                            # triangle): 1/Ω when it samples the solid angle, else by area
-                            om = 0.0
-                            hp = (ox - v0[prim, 0]) * nx + (oy - v0[prim, 1]) * ny + (oz - v0[prim, 2]) * nz
-                            if sph_lo <= sph_hi and area >= sph_lo * hp * hp:  # Ω ≤ A / h², as in the NEE
-                                # np.int64: one signature of _sph_triangle for every caller
-                                om, _wx, _wy, _wz = _sph_triangle(np.int64(prim), ox, oy, oz, v0, e1, e2, sph_lo,
-                                                                  sph_hi, -1.0, 0.0)
-                            if om > 0.0:
-                                pl = emit_prob[tri_emitter[prim]] / om
-                            else:
-                                pl = emit_prob[tri_emitter[prim]] * t * t / (area * abs(cos_i))
-                            w = power_heuristic(prev_pdf, pl)
-                        for i in range(NW):
-                            rad[i] += beta[i] * w * mat_emis_scale[m] * at(spec, mat_emis[m], lc[i], lf[i])
-                    if depth > max_depth:
+                    hit = (px, py, pz, nx, ny, nz, area, cos_i)
+                    _emission(geo, mat, emt, st, cfg, scr, (ox, oy, oz), hit, t, prim, m, prev_delta, prev_pdf)
+                    if depth > st.max_depth:
                         break
-                    # mixes: pick one component (Mix: by weight; Add: either, counted twice)
-                    mix_w = 1.0
-                    for _ in range(C.MIX_DEPTH):
-                        mm = mat_model[m]
-                        if mm == C.MAT_MIX:
-                            m = int(mat_p[m, 1]) if rnd_f(sampler, key, pseed, s, dim, n_total) < mat_p[m, 0] else int(mat_p[m, 2])
-                            dim += 1
-                        elif mm == C.MAT_ADD:
-                            m = int(mat_p[m, 1]) if rnd_f(sampler, key, pseed, s, dim, n_total) < 0.5 else int(mat_p[m, 2])
-                            mix_w *= 2.0
-                            dim += 1
-                        else:
-                            break
-                    model = mat_model[m]
+                    m, mix_w, dim = _pick_component(mat, st, smp, m, dim)
+                    model = mat.model[m]
                     if model == C.MAT_MIX or model == C.MAT_ADD:
                         break
-                    pm = mat_p[m]
-                    _lookup_material(m, lc, lf, spec, ior_tab, mat_ra, mat_rb, mat_eta, mat_kappa, mat_ior,
-                                     ra, rb, eta, kappa)
-                    tex_base = False
-                    cr = 0.0
-                    cg = 0.0
-                    cb = 0.0
-                    if has_tex:
-                        if mat_tex[m, 0] >= 0 or mat_tex[m, 1] >= 0 or mat_tex[m, 2] >= 0:
-                            tex_base, rough, cr, cg, cb, snx, sny, snz = _textures(
-                                m, np.int64(prim), bu, bv, snx, sny, snz, dx, dy, dz, cos_i, pm, pm_tex, ra, lc, lf, spec,
-                                tex_row, tri_tex, tex_data, tex_info, mat_tex, mat_nstr)
-                            if rough:
-                                pm = pm_tex
-                    # local frame around the shading normal (Duff et al. 2017)
-                    sgn = 1.0 if snz >= 0.0 else -1.0
-                    aa = -1.0 / (sgn + snz)
-                    bb = snx * sny * aa
-                    tx = 1.0 + sgn * snx * snx * aa
-                    ty = sgn * bb
-                    tz = -sgn * snx
-                    cx = bb
-                    cy = sgn + sny * sny * aa
-                    cz = -sny
-                    wox = -(dx * tx + dy * ty + dz * tz)
-                    woy = -(dx * cx + dy * cy + dz * cz)
-                    woz = -(dx * snx + dy * sny + dz * snz)
+                    tex_base, rough, cr, cg, cb, snx, sny, snz = _surface_material(mat, txr, cfg, scr, m, prim, bu, bv,
+                                                                                   sn, (dx, dy, dz), cos_i)
+                    pm = mat.params[m]
+                    if rough:
+                        pm = scr.pm_tex
+                    shade = _shading_frame((snx, sny, snz), (dx, dy, dz))
                     flags_m = bsdf_flags(model, pm)
                     if not alb_done and (flags_m & (BSDF_DIFFUSE | BSDF_GLOSSY)) != 0:
                         alb_done = True
-                        if tex_base:
-                            aX = mix_w * (cr * spec_alb[tex_row, 0] + cg * spec_alb[tex_row + 1, 0]
-                                          + cb * spec_alb[tex_row + 2, 0])
-                            aY = mix_w * (cr * spec_alb[tex_row, 1] + cg * spec_alb[tex_row + 1, 1]
-                                          + cb * spec_alb[tex_row + 2, 1])
-                            aZ = mix_w * (cr * spec_alb[tex_row, 2] + cg * spec_alb[tex_row + 1, 2]
-                                          + cb * spec_alb[tex_row + 2, 2])
-                        elif mat_ra[m] >= 0:
-                            aX = mix_w * spec_alb[mat_ra[m], 0]
-                            aY = mix_w * spec_alb[mat_ra[m], 1]
-                            aZ = mix_w * spec_alb[mat_ra[m], 2]
-                    # next-event estimation (skipped for purely specular materials)
+                        axyz = _albedo(mat, txr, m, tex_base, (cr, cg, cb), mix_w, axyz)
                     if do_nee and (flags_m & (BSDF_DIFFUSE | BSDF_GLOSSY)) != 0:
-                        ue = rnd(sampler, key, pseed, s, dim, n_total)
-                        ei = media.pick(emit_cdf, n_emit, ue)
-                        ua, ub = rnd2(sampler, key, pseed, s, dim + 1, n_total)
-                        if emit_tri[ei] >= 0:  # emissive triangles inline: no function call
-                            wx, wy, wz, dist, lpdf, fac, l_row, l_scale = _triangle_sample(
-                                emit_tri[ei], ua, ub, px, py, pz, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale,
-                                mat_emis_two, sph_lo, sph_hi)
-                            for i in range(NW):
-                                le[i] = l_scale * at(spec, l_row, lc[i], lf[i])
-                        else:
-                            wx, wy, wz, dist, lpdf, fac = _emitter_sample(
-                                ei, ua, ub, px, py, pz, lam, le, v0, e1, e2, tri_mat, mat_emis, mat_emis_scale,
-                                mat_emis_two, spec, light_kind, light_geo, light_prof, light_spec, light_scale,
-                                light_two_sided,
-                                emit_tri, emit_light, world_img, world_dist, world_par, world_row, sph_lo, sph_hi)
-                        cos_n = snx * wx + sny * wy + snz * wz
-                        if fac > 0.0 and lpdf > 0.0 and cos_n * (nx * wx + ny * wy + nz * wz) > 0.0:
-                            wix = wx * tx + wy * ty + wz * tz
-                            wiy = wx * cx + wy * cy + wz * cz
-                            if model == C.MAT_LAMBERT:
-                                pb = _lambert_eval(pm, ra, woz, cos_n, fv)
-                            else:
-                                pb = bsdf_eval(model, pm, ra, rb, eta, kappa, wox, woy, woz, wix, wiy, cos_n, fv)
-                            fmax = 0.0
-                            for i in range(NW):
-                                fmax = max(fmax, fv[i])
-                            if fmax > 0.0:
-                                side = 1.0 if cos_n > 0.0 else -1.0
-                                sox = px + side * eps * nx
-                                soy = py + side * eps * ny
-                                soz = pz + side * eps * nz
-                                tmax_s = _shadow_tmax(dist, eps, emit_tri[ei], sox, soy, soz, wx, wy, wz, v0, e1, e2)
-                                if media.unoccluded(has_media, sox, soy, soz, wx, wy, wz, tmax_s, medium, outer,
-                                                    mat_medium[tri_mat[prim]], cos_i, cos_n, lam, mw, fv, nodes, tris,
-                                                    v0, e1, e2, tri_mat, mat_model, mat_medium,
-                                                    med_tab, eps, stack):
-                                    pe = emit_prob[ei]
-                                    if lpdf == np.inf:  # delta light: NEE only, no MIS
-                                        g = mix_w * abs(cos_n) * fac / pe
-                                    else:
-                                        pl = pe * lpdf
-                                        g = mix_w * power_heuristic(pl, pb) * abs(cos_n) * fac / pl
-                                    for i in range(NW):
-                                        rad[i] += beta[i] * fv[i] * g * le[i]
+                        _surface_nee(geo, mat, emt, med, st, smp, cfg, scr, dim, hit, shade, prim, model, pm, mix_w,
+                                     (medium, outer))
                     dim += 3
-                    # BSDF sampling
-                    u1, u2 = rnd2(sampler, key, pseed, s, dim, n_total)
-                    if model == C.MAT_LAMBERT:
-                        wix, wiy, wiz, pdf, flags = _lambert_sample(pm, ra, woz, u1, u2, fv)
-                    else:
-                        wix, wiy, wiz, pdf, flags = bsdf_sample(model, pm, ra, rb, eta, kappa, wox, woy, woz, u1, u2,
-                                                                rnd(sampler, key, pseed, s, dim + 2, n_total), fv)
-                    dim += 3
+                    flags, wix, wiy, wiz, pdf, q, dispersed, dim = _bsdf_step(mat, st, smp, cfg, scr, dim, shade[9:],
+                                                                              model, pm, mix_w, dispersed)
                     if flags == 0:
                         break
-                    if (flags & BSDF_DISPERSIVE) != 0 and not dispersed:
-                        if has_media:
-                            media.drop_companions(beta, mw)
-                        else:
-                            terminate_secondary(pdf_lam)
-                        dispersed = True
-                    q = 0.0
-                    for i in range(NW):
-                        beta[i] *= fv[i] * mix_w
-                        if pdf_lam[i] > 0.0:
-                            q = max(q, beta[i])
                     prev_delta = (flags & BSDF_DELTA) != 0
                     prev_pdf = pdf
-                    # back to world space
-                    dx = wix * tx + wiy * cx + wiz * snx
-                    dy = wix * ty + wiy * cy + wiz * sny
-                    dz = wix * tz + wiy * cz + wiz * snz
-                    cgeo = nx * dx + ny * dy + nz * dz
-                    if cgeo * wiz <= 0.0:
-                        break  # below the geometric surface on the shading normal's side: a leak
-                    side = 1.0 if cgeo > 0.0 else -1.0
-                    ox = px + side * eps * nx
-                    oy = py + side * eps * ny
-                    oz = pz + side * eps * nz
-                    t_lo = 0.0
-                    if has_media and (cgeo > 0.0) != (cos_i > 0.0):  # transmitted: into or out of the interior
-                        medium, outer = media.cross(medium, outer, mat_medium[tri_mat[prim]], cgeo < 0.0, med_tab,
-                                                    lam, mw)
-                    depth += 1
-                    if q <= 0.0:
+                    ok, ox, oy, oz, dx, dy, dz, medium, outer = _next_ray(geo, med, cfg, scr, hit, shade,
+                                                                          (wix, wiy, wiz), prim, (medium, outer))
+                    if not ok:
                         break
-                    if depth >= rr_depth:
-                        if q < 1.0:
-                            if rnd_f(sampler, key, pseed, s, dim, n_total) >= q:
-                                break
-                            for i in range(NW):
-                                beta[i] /= q
-                        dim += 1
-                _splat(film, spectral, y, x, rad, pdf_lam, lam, cmf, photometric)
-                aov[y, x, 0] += aX
-                aov[y, x, 1] += aY
-                aov[y, x, 2] += aZ
-                aov[y, x, 8] += transp
+                    t_lo = 0.0
+                    depth += 1
+                    alive, dim = _roulette(st, smp, beta, q, depth, dim)
+                    if not alive:
+                        break
+                _film_add(fr, y, x, scr, axyz, transp, photometric)

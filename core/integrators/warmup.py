@@ -1,12 +1,12 @@
 """The first compile on a cold cache, spread over two processes.
 
-The path kernel (``kernels.path.render_rows``) calls some forty helpers that numba
-compiles as functions of their own (the BSDF dispatch, the sampler, media, lights, the
-film splat). numba compiles in one thread per process, but its on-disk cache is shared:
-a helper compiled and saved by another process is loaded, not compiled, when the
-kernel's type inference reaches its call. So on a cold cache ``render`` starts a second
-Python process that compiles the helpers of ``HELPER_GROUP`` while this one builds the
-BVH (compiling its builder) and compiles the other helpers; this one then waits for the
+The path kernel (``integrators.path.render_rows``, with its fragments inlined) calls some
+forty helpers that numba compiles as functions of their own (the BSDF dispatch, the
+sampler, media, lights, the film splat). numba compiles in one thread per process, but its
+on-disk cache is shared: a helper compiled and saved by another process is loaded, not
+compiled, when the kernel's type inference reaches its call. So on a cold cache ``render``
+starts a second Python process that compiles the helpers of ``HELPER_GROUP`` while this one
+builds the BVH (compiling its builder) and compiles the other helpers; this one then waits for the
 second to finish (``finish``), so that no helper is compiled twice, and compiles the
 kernel's own body.
 On a machine with one core, with ``SPECTRAL_GI_PARALLEL_COMPILE=0``, or when anything
@@ -60,7 +60,35 @@ def _types_namespace():
 
     ns = dict(vars(types))
     ns["bool"] = types.boolean
+    ns["Record"] = _record_type
     return ns
+
+
+def _record_type(mod, name, field_types):
+    """The numba type of a record (a NamedTuple class ``name`` of module ``mod`` under core)
+    with fields of ``field_types``, as numba types an instance of it."""
+    from numba.core import types
+
+    cls = getattr(importlib.import_module(f"{_PKG}.core.{mod}"), name)
+    return types.BaseTuple.from_types(tuple(field_types), cls)
+
+
+def _type_repr(ty):
+    """numba's repr of a type, which ``plan`` evaluates back, but for records (named tuples):
+    ``Record(module under core, class name, (field types,))``."""
+    from numba.core import types
+
+    if isinstance(ty, types.BaseNamedTuple):
+        cls = ty.instance_class
+        fields = "".join(_type_repr(t) + ", " for t in ty.types)
+        return f"Record({cls.__module__.split('.core.', 1)[1]!r}, {cls.__name__!r}, ({fields.rstrip()}))"
+    return repr(ty)
+
+
+def _signature_repr(args):
+    """The repr of a tuple of argument types (as ``repr(tuple(args))``, records by ``_type_repr``)."""
+    reprs = [_type_repr(a) for a in args]
+    return "(" + ", ".join(reprs) + ("," if len(reprs) == 1 else "") + ")"
 
 
 def plan():
@@ -213,7 +241,7 @@ def record():
         fnty = st.typemap[expr.func.name]
         if isinstance(fnty, types.Dispatcher):
             f = fnty.dispatcher.py_func
-            found.add((f.__module__.split(".core.", 1)[1], f.__name__, repr(tuple(sig.args))))
+            found.add((f.__module__.split(".core.", 1)[1], f.__name__, _signature_repr(sig.args)))
     return sorted(found)
 
 

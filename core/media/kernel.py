@@ -248,10 +248,20 @@ def drop_companions(beta, mw):
 # ------------------------------------------------------------------ shadow rays
 
 @function
-def shadow(ox, oy, oz, wx, wy, wz, dist, medium, outer, lam, mw, nodes, tris,
-           v0, e1, e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack):
-    """Transmittance from (o) over ``dist`` along unit w into mw[MW_TR], passing null
-    surfaces and switching media at them; False (and 0) if any other surface blocks it."""
+def shadow(o, w, dist, medium, outer, lam, mw, geo, mat_model, med, eps, stack):
+    """Transmittance from o over ``dist`` along unit w into mw[MW_TR], passing null
+    surfaces and switching media at them; False (and 0) if any other surface blocks it.
+    geo, med: the geometry and media records (core/geometry/record.py, record.py here);
+    mat_model: the materials' MAT_* tags."""
+    ox, oy, oz = o
+    wx, wy, wz = w
+    nodes = geo.nodes
+    tris = geo.tris
+    e1 = geo.e1
+    e2 = geo.e2
+    tri_mat = geo.tri_mat
+    mat_medium = med.mat_medium
+    med_tab = med.med_tab
     for i in range(NW):
         mw[MW_TR, i] = 1.0
     t0 = 0.0
@@ -278,17 +288,16 @@ def shadow(ox, oy, oz, wx, wy, wz, dist, medium, outer, lam, mw, nodes, tris,
 
 
 @inline
-def unoccluded(has_media, ox, oy, oz, wx, wy, wz, tmax, medium, outer, interior, cos_i, cos_n, lam, mw, fv,
-               nodes, tris, v0, e1, e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack):
-    """Surface NEE visibility. Without media the plain any-hit query; with media the
-    shadow ray starts in the medium on its side of the surface, passes null surfaces
-    and scales fv by the transmittance."""
+def unoccluded(has_media, o, w, tmax, vol, interior, cos_i, cos_n, lam, mw, fv, geo, mat_model, med, eps, stack):
+    """Surface NEE visibility from o along w (vol: the (medium, outer) the path is in).
+    Without media the plain any-hit query; with media the shadow ray starts in the medium
+    on its side of the surface, passes null surfaces and scales fv by the transmittance."""
+    medium, outer = vol
     if not has_media:
-        return not trace_occluded(ox, oy, oz, wx, wy, wz, 0.0, tmax, nodes, tris, stack)
+        return not trace_occluded(o[0], o[1], o[2], w[0], w[1], w[2], 0.0, tmax, geo.nodes, geo.tris, stack)
     if (cos_n > 0.0) != (cos_i > 0.0):
         medium, outer = crossed(medium, outer, interior, cos_n < 0.0)
-    if not shadow(ox, oy, oz, wx, wy, wz, tmax, medium, outer, lam, mw, nodes, tris,
-                  v0, e1, e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack):
+    if not shadow(o, w, tmax, medium, outer, lam, mw, geo, mat_model, med, eps, stack):
         return False
     for i in range(NW):
         fv[i] *= mw[MW_TR, i]
@@ -312,20 +321,22 @@ def pick(cdf, n, u):
 
 
 @function
-def nee(px, py, pz, dx, dy, dz, g, wx, wy, wz, dist, lpdf, fac, le, pe, medium, outer, lam, beta, rad, mw,
-        nodes, tris, v0, e1, e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack):
-    """Light sampling at a scattering point: an emitter sample (unit direction w, distance,
-    solid-angle pdf — inf for a delta light —, factor, emitted radiance le per wavelength,
-    selection probability pe), HG phase, analytic transmittance through media and null
-    surfaces, power heuristic against phase sampling."""
+def nee(p, d, g, sample, le, vol, lam, beta, rad, mw, geo, mat_model, med, eps, stack):
+    """Light sampling at a scattering point p (ray direction d, the path in vol = (medium,
+    outer)): an emitter sample (sample = (unit direction w, distance, solid-angle pdf — inf
+    for a delta light —, factor, selection probability pe), emitted radiance le per
+    wavelength), HG phase, analytic transmittance through media and null surfaces, power
+    heuristic against phase sampling."""
+    dx, dy, dz = d
+    wx, wy, wz, dist, lpdf, fac, pe = sample
+    medium, outer = vol
     if fac <= 0.0 or lpdf <= 0.0:
         return
     ph = hg_eval(g, dx * wx + dy * wy + dz * wz)
     if ph <= 0.0:
         return
     tmax = dist * (1.0 - 1e-4) - eps if dist < np.inf else np.inf
-    if not shadow(px, py, pz, wx, wy, wz, tmax, medium, outer, lam, mw, nodes, tris,
-                  v0, e1, e2, tri_mat, mat_model, mat_medium, med_tab, eps, stack):
+    if not shadow(p, (wx, wy, wz), tmax, medium, outer, lam, mw, geo, mat_model, med, eps, stack):
         return
     if lpdf == np.inf:  # delta light: NEE only
         k = ph * fac / pe

@@ -269,3 +269,16 @@ def scene_white_xy(scene):
     if not total > 0.0:
         return None
     return (float(XYZ[0]) / total, float(XYZ[1]) / total)
+
+
+def luminance_scale(shape_row, cmf, luminance, what):
+    """Factor turning a spectrum shape into spectral radiance W/(m² sr nm) of ``luminance`` cd/m²."""
+    from ..film.record import v_lambda
+    from ..scene import SceneError
+
+    y = float(np.sum(shape_row.astype(np.float64) * v_lambda(cmf)) * C.LAMBDA_STEP)
+    if luminance == 0.0:
+        return 0.0
+    if not y > 0.0:
+        raise SceneError(f"{what}: its spectrum has no visible power, so a luminance cannot be set")
+    return luminance / (C.K_M * y)

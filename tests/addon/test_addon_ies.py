@@ -48,11 +48,11 @@ def test_point_light_with_a_profile_file_exports_it(ext, bpy):
     renderer = importlib.import_module(MODULE + ".core.integrators.render")
     lights = importlib.import_module(MODULE + ".core.lights.kernel")
     prep = renderer.prepare(res.scene)
-    g = prep.light_geo[0]
+    g = prep.emitters.light_geo[0]
     np.testing.assert_allclose(g[lights.LG_U:lights.LG_U + 3], (0, 1, 0), atol=1e-6)
     np.testing.assert_allclose(g[lights.LG_V:lights.LG_V + 3], (-1, 0, 0), atol=1e-6)  # local +Y
     # light selection: the file's absolute candela, flux π · 1000 lm (bilinear)
-    assert prep.emit_prob.tolist() == [1.0]
+    assert prep.emitters.emit_prob.tolist() == [1.0]
 
 
 def test_preset_profile_and_brightness_from_the_lights_unit(ext, bpy):

@@ -30,7 +30,7 @@ def scene_file(tmp_path):
 def test_lux_at_points_is_i_cos_over_d2_in_input_order(tmp_path, scene_file):
     pts = tmp_path / "grid.pts"
     rows = [(1.0, 0.0, 0.0, 0, 0, 1), (0.0, 0.0, 0.0, 0, 0, 1), (0.0, 0.0, 1.0, 0, 0, 1),
-            (0.0, 0.5, 0.0, 0, 1, 0)]  # floor points, one in free space, one vertical facing +y
+            (0.0, 0.5, 0.5, 0, -1, 0)]  # floor points, one in free space, one vertical facing the lamp's axis
     pts.write_text("# x y z nx ny nz\n" + "\n".join(" ".join(map(str, r)) for r in rows) + "\n")
     r = run(["lux", str(scene_file), "--sensors", str(pts), "--spp", "64", "--out", "lux.csv"], tmp_path)
     assert r.returncode == 0, r.stderr
@@ -44,8 +44,8 @@ def test_lux_at_points_is_i_cos_over_d2_in_input_order(tmp_path, scene_file):
         v = np.array([0.0, 0.0, HEIGHT]) - (x, y, z)
         d = np.linalg.norm(v)
         expected.append(max(0.0, INTENSITY * (v @ (nx, ny, nz)) / d ** 3))
-    # the floor reflects (ρ = 0.8) but the points are above it or on it facing up: no light from below,
-    # except the vertical point, which sees the lit floor; the rest is direct light alone
+    # the floor reflects (ρ = 0.8), but the first three points face up: they see the lamp alone; the
+    # vertical point also sees the lit floor below its horizon
     np.testing.assert_allclose(got[:3, 6], expected[:3], rtol=0.01)
     assert got[3, 6] > expected[3]  # the direct part plus the floor's reflection
     assert np.all(got[:, 7] >= 0.0)

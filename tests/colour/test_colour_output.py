@@ -10,6 +10,7 @@ from helpers import flat_emission, look_at
 from spectral_gi.core import constants as C
 from spectral_gi.core.integrators import render as R
 from spectral_gi.core.film import CHROMATICITIES, Film, develop
+from spectral_gi.core.film import record as FR
 from spectral_gi.core.io.exr import read_channels, write_render
 from spectral_gi.core.scene import (
     Camera, RenderSettings, Scene, SceneError, SpectrumTable, World, load, save, validate)
@@ -94,8 +95,8 @@ def test_settings_are_validated_and_survive_save_and_load(tmp_path):
 
 
 def test_cmf_table_keeps_v_lambda_beside_the_10_degree_observer():
-    c2 = R.cmf_table("1931")
-    c10 = R.cmf_table("1964")
+    c2 = FR.cmf_table("1931")
+    c10 = FR.cmf_table("1964")
     assert c2.shape == (C.N_LAMBDA, 3) and c10.shape == (C.N_LAMBDA, 4)
     np.testing.assert_array_equal(c10[:, 3], c2[:, 1])
     cs10 = colour.MSDS_CMFS["CIE 1964 10 Degree Standard Observer"]

@@ -9,6 +9,7 @@ from helpers import flat_reflectance, look_at
 from spectral_gi.core import constants as C
 from spectral_gi.core.integrators import render as R
 from spectral_gi.core.film import develop
+from spectral_gi.core.lights import record as LR
 from spectral_gi.core.scene import (
     Camera, Material, Mesh, RenderSettings, Scene, SceneError, SpectrumTable, World, load, save, validate)
 from spectral_gi.core.spectra import uplift
@@ -64,7 +65,7 @@ def test_constant_colour_image_equals_the_constant_world():
     scale = 2.0
     img = np.broadcast_to(rgb.astype(np.float32), (8, 16, 3)).copy()
     a = plane_scene(world=World(image=img, image_scale=scale))
-    _, y = R.world_emission_basis()
+    _, y = LR.world_emission_basis()
     sc_b = plane_scene()
     e = sc_b.spectra.add("sky", uplift.emission_from_rgb(rgb), C.SPECTRUM_UNBOUNDED)
     sc_b.world = World(background=e, luminance=C.K_M * scale * float(rgb @ y))
@@ -136,13 +137,13 @@ def test_world_image_sampling_matches_its_pdf(rotation, alpha):
     rng = np.random.default_rng(11)
     n = 40000
     u = rng.random((n, 2))
-    out = np.array([env_sample(prep.world_dist, prep.world_par, a, b)[:4] for a, b in u])
+    out = np.array([env_sample(prep.emitters.world_dist, prep.emitters.world_par, a, b)[:4] for a, b in u])
     dirs, p = out[:, :3], out[:, 3]
     np.testing.assert_allclose(np.linalg.norm(dirs, axis=1), 1.0, atol=1e-12)
     np.testing.assert_allclose(p, pdf(dirs), rtol=1e-9)
     # the kernel's lookup agrees with the sampler's pdf and texel
     for k in range(200):
-        i, j, pl = env_lookup(prep.world_dist, prep.world_par, w, h, *dirs[k])
+        i, j, pl = env_lookup(prep.emitters.world_dist, prep.emitters.world_par, w, h, *dirs[k])
         assert pl == pytest.approx(p[k], rel=1e-9)
     # goodness of fit in map coordinates, where the density is piecewise constant (in (cos θ, φ)
     # cells the 1/sin θ density at the poles defeats the quadrature of the expected counts)

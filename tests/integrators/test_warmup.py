@@ -29,12 +29,16 @@ def test_groups_split_the_plan():
     assert names - warmup.HELPER_GROUP, "this process would compile nothing ahead"
 
 
-def test_second_process_imports_the_package_under_blenders_name(rendered):
+def test_second_process_imports_the_package_under_blenders_name(rendered, tmp_path):
     """Blender imports the extension as bl_ext.<repository>.spectral_gi: the second process
     imports it under the same dotted name without running the add-on's __init__ (which
-    imports bpy), and compiles (here: loads from the cache) its whole group."""
+    imports bpy), and compiles its whole group.
+
+    In a cache folder of its own: numba's cache index names the kernel records' classes by
+    their module, so a process that imports these files under another package name than
+    the one that wrote the index cannot read it (in Blender both processes use one name)."""
     root = warmup._ROOT  # the package root (the folder holding core/)
-    env = dict(os.environ, PYTHONPATH="")
+    env = dict(os.environ, PYTHONPATH="", SPECTRAL_GI_CACHE_DIR=str(tmp_path))
     out = subprocess.run([sys.executable, "-c", warmup._BOOT, "bl_ext.user_default.spectral_gi", root],
                          capture_output=True, text=True, env=env, timeout=600)
     assert out.returncode == 0, out.stderr[-2000:]

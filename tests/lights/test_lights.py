@@ -137,7 +137,7 @@ def test_light_selection_follows_luminous_flux():
     radius = 0.5 * np.linalg.norm([100.0, 100.0, 0.0])
     flux = np.array([4 * np.pi * 10, 2 * np.pi * 20 * (1 - math.cos(spot_size / 2)) * (1 - blend / 2),
                      np.pi * 30 * 0.5, 2.0 * np.pi * radius ** 2])
-    np.testing.assert_allclose(prep.emit_prob, flux / flux.sum(), rtol=1e-9)
+    np.testing.assert_allclose(prep.emitters.emit_prob, flux / flux.sum(), rtol=1e-9)
     # the spot's flux formula is the integral of its mask over the sphere
     t = np.linspace(-1, 1, 2_000_001)
     integral = 2 * np.pi * np.trapz(blender_spot_mask(t, spot_size, blend), t)

@@ -222,14 +222,12 @@ def _shadow_setup(materials, media, meshes):
 
 
 def _shadow(prep, o, w, dist, medium=-1):
-    b = prep.bvh
     lam = np.array([400.0, 500.0, 600.0, 700.0])
     mw = np.zeros((M.MW_ROWS, NW))
     from spectral_gi.core.geometry.bvh import STACK_SIZE
     stack = np.empty(STACK_SIZE, np.int32)
-    ok = M.shadow(o[0], o[1], o[2], w[0], w[1], w[2], dist, medium, -1, lam, mw, b.nodes, b.tris,
-                  b.v0, b.e1, b.e2, prep.tri_mat, prep.mat_model, prep.mat_medium, prep.med_tab, 1e-6,
-                  stack)
+    ok = M.shadow((float(o[0]), float(o[1]), float(o[2])), (float(w[0]), float(w[1]), float(w[2])), dist, medium, -1,
+                  lam, mw, prep.geometry, prep.materials.model, prep.media, 1e-6, stack)
     return ok, mw[M.MW_TR].copy()
 
 
@@ -303,9 +301,9 @@ def test_chromatic_absorbing_slab_per_wavelength(alpha):
     film = Film(6, 6, bins)
     R.run_pass(prep, film, 0, sc.settings.spp)
     sr = film.spectral_radiance()  # (H, W, bins)
-    emis = prep.mat_emis_scale[0] * prep.spec[sc.materials[0].emission].astype(np.float64)
-    sig = prep.med_tab[0]
-    np.testing.assert_allclose(sig, 2.5 * prep.spec[a], rtol=1e-6)
+    emis = prep.materials.emis_scale[0] * prep.materials.spec[sc.materials[0].emission].astype(np.float64)
+    sig = prep.media.med_tab[0]
+    np.testing.assert_allclose(sig, 2.5 * prep.materials.spec[a], rtol=1e-6)
     lt = emis * np.exp(-sig * 0.6)
     edges = np.linspace(C.LAMBDA_MIN, C.LAMBDA_MAX, bins + 1)
     for b in range(bins):
@@ -345,7 +343,7 @@ def test_albedo_one_medium_in_null_sphere_conserves_furnace_radiance(alpha):
     sc.materials.append(Material("cloud boundary", model=C.MAT_NULL, interior=0))
     sc.meshes.append(icosphere("cloud", (0.55, 0.11, 0.055), 0.35, 1))
     prep = R.prepare(sc)
-    assert prep.cam_medium == -1
+    assert prep.media.cam_medium == -1
     film, _ = R.render(sc)
     d = develop(film.sums)
     _furnace_expected(d, alpha, "null-sphere")
@@ -359,7 +357,7 @@ def test_camera_inside_fog_filled_furnace(alpha):
     sc.media = [Medium("fog", scattering_density=1.5, anisotropy=-0.3)]
     sc.materials[0].interior = 0
     prep = R.prepare(sc)
-    assert prep.cam_medium == 0
+    assert prep.media.cam_medium == 0
     film, _ = R.render(sc)
     d = develop(film.sums)
     _furnace_expected(d, alpha, "fog-furnace")
@@ -397,7 +395,7 @@ def test_media_machinery_is_neutral_without_media():
     R.run_pass(R.prepare(sc), a, 0, 3)
     sc.media = [Medium("unused", absorption_density=3.0, scattering_density=1.0)]
     prep = R.prepare(sc)
-    assert prep.med_tab.shape[0] == 2
+    assert prep.media.med_tab.shape[0] == 2
     b = Film(12, 10)
     R.run_pass(prep, b, 0, 3)
     assert np.array_equal(a.sums, b.sums)

@@ -275,14 +275,14 @@ def test_kernel_profile_factor_matches_numpy_oracle():
     rng = np.random.default_rng(11)
     q = rng.normal(size=(500, 3))
     q /= np.linalg.norm(q, axis=1)[:, None]
-    got = np.array([LG.profile_factor(prep.light_geo, prep.light_prof, 0, *v) for v in q])
+    got = np.array([LG.profile_factor(prep.emitters.light_geo, prep.emitters.light_prof, 0, *v) for v in q])
     th, c = _angles(q, sc.lights[0].direction, sc.lights[0].axis_u)
     np.testing.assert_allclose(got, P.evaluate(pr, th, c) / pr.candela.max(), atol=1e-9)
     # the named directions: C0 towards local −Y, C90 towards −X, C270 towards +X (θ = 90°, the horizon)
     n, x, y = _frame(sc.lights[0].direction, sc.lights[0].axis_u)
     for v, cc in ((-y, 0.0), (-x, 90.0), (y, 180.0), (x, 270.0)):
         d = 0.6 * v + 0.8 * n  # θ = acos 0.8
-        f = LG.profile_factor(prep.light_geo, prep.light_prof, 0, *d)
+        f = LG.profile_factor(prep.emitters.light_geo, prep.emitters.light_prof, 0, *d)
         assert f == pytest.approx(P.evaluate(pr, math.degrees(math.acos(0.8)), cc) / pr.candela.max(), abs=1e-9)
 
 
@@ -300,9 +300,9 @@ def test_profile_modes_set_brightness_and_selection_flux():
     sc.profiles = [ww, bi]
     prep = R.prepare(sc)
     flux = np.array([math.pi * 1000.0, 4 * math.pi * 750 * 300 / 1500, 2000.0, 4 * math.pi * 100])
-    np.testing.assert_allclose(prep.emit_prob, flux / flux.sum(), rtol=2e-3)
+    np.testing.assert_allclose(prep.emitters.emit_prob, flux / flux.sum(), rtol=2e-3)
     # light_scale is proportional to the peak candela: plain 100 cd ↔ peaks 1300, 300, 2000/Φ · 1500
-    s = prep.light_scale / prep.light_scale[3] * 100.0
+    s = prep.emitters.light_scale / prep.emitters.light_scale[3] * 100.0
     np.testing.assert_allclose(s[:3], [ww.candela.max(), 300.0, 2000.0 / P.flux(bi) * 1500.0], rtol=1e-9)
 
 
@@ -313,12 +313,12 @@ def test_profiled_spot_flux_includes_its_cone():
     sc = plane_scene([spot, plain])
     sc.profiles = [P.read_profile(IES / "cosine_downlight.ies")]
     prep = R.prepare(sc)
-    np.testing.assert_allclose(prep.emit_prob, [0.5, 0.5], rtol=1e-9)
+    np.testing.assert_allclose(prep.emitters.emit_prob, [0.5, 0.5], rtol=1e-9)
     # the spot emits 500 lm inside the cone: its peak is 500 / ∫ cos θ · mask dω
     mu = np.linspace(math.cos(size / 2), 1, 200001)
     from spectral_gi.core.photometry.units import spot_falloff
     integral = 2 * math.pi * np.trapz(mu * spot_falloff(mu, size, blend), mu)
-    s = prep.light_scale[0] / prep.light_scale[1] * 500.0 / (4 * math.pi)
+    s = prep.emitters.light_scale[0] / prep.emitters.light_scale[1] * 500.0 / (4 * math.pi)
     assert s == pytest.approx(500.0 / integral, rel=2e-3)
 
 

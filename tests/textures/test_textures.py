@@ -102,7 +102,7 @@ def expected_xyz(scene, rgb):
     plane sees the whole upper hemisphere: L_o = ρ L)."""
     prep = R.prepare(scene)
     rho = np.asarray(rgb) @ reflectance_basis()
-    le = prep.world_scale * prep.spec[prep.world_spec].astype(np.float64)
+    le = prep.emitters.world_scale * prep.materials.spec[prep.emitters.world_spec].astype(np.float64)
     return (rho * le) @ prep.cmf[:, :3].astype(np.float64) * C.LAMBDA_STEP
 
 

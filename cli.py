@@ -126,9 +126,12 @@ def _parser():
                                     "a CSV of lux and standard errors out")
     lx.add_argument("scene", nargs="?", help="scene file (.json with its .npz beside it) or scene folder")
     lx.add_argument("--builtin", choices=("cornell", "colorchecker"), help="a built-in scene instead of a file")
-    lx.add_argument("--sensors", required=True,
-                    help="points file: one point a line, 'x y z nx ny nz' in metres ('#' comments allowed)")
-    lx.add_argument("--out", help="results CSV (x,y,z,nx,ny,nz,lux,std_error; default: <points file>.csv)")
+    lx.add_argument("--sensors",
+                    help="points file: one point a line, 'x y z nx ny nz' in metres ('#' comments allowed); "
+                         "without it, every calculation surface of the scene")
+    lx.add_argument("--out", help="with --sensors: the results CSV (x,y,z,nx,ny,nz,lux,std_error; default: "
+                                  "<points file>.csv); else the folder for each surface's CSV, JSON summary "
+                                  "and report page (default: <scene>_lux)")
     stop = lx.add_mutually_exclusive_group()
     stop.add_argument("--spp", type=_positive_int, default=256, help="samples per point (default 256)")
     stop.add_argument("--rel-error", type=float,
@@ -285,7 +288,6 @@ def _lux(args):
     scene = load(args.scene) if args.scene else BUILTIN_SCENES[args.builtin]()
     if args.rel_error is not None and not 0.0 < args.rel_error < 1.0:
         raise SceneError(f"--rel-error must be in (0, 1), got {args.rel_error}")
-    out = Path(args.out) if args.out else Path(args.sensors).with_suffix(".csv")
     bar = _Progress()
     done = {"spp": 0}
     t0 = time.perf_counter()
@@ -300,10 +302,48 @@ def _lux(args):
         done["spp"] = int(np.sum(spp))
         return lux, se
 
+    if args.sensors is None:
+        stem = Path(args.scene).with_suffix("").name if args.scene else args.builtin
+        return _lux_surfaces(scene, estimate, done, Path(args.out or f"{stem}_lux"), stem, t0)
+    out = Path(args.out) if args.out else Path(args.sensors).with_suffix(".csv")
     lux, se = calculate_pts_file(estimate, scene, args.sensors, out)
     rel = np.where(lux > 0, se / np.where(lux > 0, lux, 1.0), 0.0)
     sys.stderr.write(f"{lux.size} points, {done['spp']} samples in {time.perf_counter() - t0:.1f} s; "
                      f"largest relative standard error {rel.max():.3g}; wrote {out}\n")
+    return EXIT_OK
+
+
+def _lux_surfaces(scene, estimate, done, out_dir, project, t0):
+    """Every calculation surface of ``scene``: its CSV, JSON summary and (with matplotlib) report page."""
+    import datetime
+
+    from .core.lux import calculate_surface, render_report, statistics, write_summary_json, write_surface_csv
+    from .core.lux.schedule import luminaire_schedule
+    from .core.scene import SceneError
+
+    if not scene.calculation_surfaces:
+        raise SceneError("calculation_surfaces: the scene has none; give --sensors POINTS.pts")
+    out_dir.mkdir(parents=True, exist_ok=True)
+    schedule = luminaire_schedule(scene)
+    date = datetime.date.today().isoformat()
+    for s in scene.calculation_surfaces:
+        lux, se = calculate_surface(estimate, scene, s)
+        samples = max(1, done["spp"] // s.n_points)
+        base = out_dir / s.name
+        write_surface_csv(base.with_suffix(".csv"), s, lux, se)
+        write_summary_json(base.with_suffix(".json"), s, lux, se, samples, schedule, project, date)
+        st = statistics(s, lux, se, samples)
+        page = ""
+        try:
+            render_report(s, lux, se, samples, schedule, project=project, date=date,
+                          png_path=base.with_suffix(".png"), pdf_path=base.with_suffix(".pdf"))
+            page = ", report page .png/.pdf"
+        except ImportError as e:  # matplotlib (the analysis extra) is not installed
+            page = f" (no report page: {e})"
+        sys.stderr.write(f"{s.name}: {s.n_points} points, Ē {st.mean:.1f} lx, Emin {st.minimum:.1f} lx, "
+                         f"Emax {st.maximum:.1f} lx, U0 {st.u0 if st.u0 is None else round(st.u0, 3)}; "
+                         f"wrote {base}.csv, .json{page}\n")
+    sys.stderr.write(f"{len(scene.calculation_surfaces)} surfaces in {time.perf_counter() - t0:.1f} s\n")
     return EXIT_OK
 
 

@@ -34,7 +34,6 @@ scene, "in.pts", "out.csv")`` is the ``rtrace -I+`` workflow.
 """
 
 from .calculate import calculate_points, calculate_pts_file, calculate_surface, check_result
-from .cie171 import CIE171_TOLERANCE, ReferenceCase, reference_cases
 from .falsecolour import (
     DEFAULT_STEPS,
     auto_range,
@@ -73,11 +72,9 @@ from .report import (
 )
 
 __all__ = [
-    "CIE171_TOLERANCE",
     "CalculationSurface",
     "DEFAULT_STEPS",
     "LuxError",
-    "ReferenceCase",
     "SURFACE_FORMAT_VERSION",
     "SurfaceStatistics",
     "auto_range",
@@ -105,7 +102,6 @@ __all__ = [
     "read_results_csv",
     "read_summary_json",
     "rectangle_grid",
-    "reference_cases",
     "render_report",
     "scale_positions",
     "statistics",

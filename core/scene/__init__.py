@@ -30,6 +30,8 @@ from .checks import check_array as _check_array
 from .checks import check_number as _check_number
 from .checks import check_vec3 as _check_vec3
 from .checks import fail as _fail
+from ..lux.grids import CalculationSurface
+from ..lux.points import LuxError
 from .textures import Texture
 from .textures import check as _check_textures
 from ..spectra import moments
@@ -304,6 +306,8 @@ class Scene:
     camera: Camera = field(default_factory=lambda: Camera(np.eye(4)))
     world: World = field(default_factory=World)
     settings: RenderSettings = field(default_factory=RenderSettings)
+    # where a lighting analysis reports illuminance (core/lux/grids.py): grids, work planes, mesh points
+    calculation_surfaces: list[CalculationSurface] = field(default_factory=list)
     metadata: dict = field(default_factory=dict)
     version: int = C.SCENE_FORMAT_VERSION
 
@@ -334,6 +338,7 @@ def validate(scene: Scene) -> Scene:
     _validate_camera(scene.camera)
     _validate_world(scene, spec_ref)
     _validate_settings(scene.settings)
+    _validate_calculation_surfaces(scene.calculation_surfaces)
     return scene
 
 
@@ -574,6 +579,22 @@ def _validate_world(scene, spec_ref):
     _check_number("world.image_scale", scene.world.image_scale, lo=0.0)
 
 
+def _validate_calculation_surfaces(surfaces):
+    if not isinstance(surfaces, list):
+        _fail("calculation_surfaces", f"expected a list, got {type(surfaces).__name__}")
+    names = set()
+    for i, s in enumerate(surfaces):
+        if not isinstance(s, CalculationSurface):
+            _fail(f"calculation_surfaces[{i}]", f"expected a CalculationSurface, got {type(s).__name__}")
+        try:
+            s.validate()
+        except LuxError as e:
+            _fail(f"calculation_surfaces[{i}]", str(e))
+        if s.name in names:
+            _fail(f"calculation_surfaces[{i}]", f"a second surface named {s.name!r} (names name the output files)")
+        names.add(s.name)
+
+
 def _validate_settings(s):
     _check_number("settings.spp", s.spp, lo=1, hi=1 << 24, integer=True)
     _check_number("settings.max_depth", s.max_depth, lo=0, hi=1024, integer=True)
@@ -676,6 +697,7 @@ def to_dict_and_arrays(scene: Scene):
         "camera": cam,
         "world": _world_record(scene.world, arrays),
         "settings": dataclasses.asdict(scene.settings),
+        "calculation_surfaces": [s.to_dict() for s in scene.calculation_surfaces],
     }
     return _to_jsonable(doc), arrays
 
@@ -786,6 +808,12 @@ def load(path) -> Scene:
         wd["image"] = arr(wd.get("image"), "world.image")
         world = record(World, wd, "world")
         settings = record(RenderSettings, doc["settings"], "settings")
+        surfaces = []
+        for i, d in enumerate(doc.get("calculation_surfaces") or []):
+            try:
+                surfaces.append(CalculationSurface.from_dict(d))
+            except LuxError as e:
+                raise SceneError(f"calculation_surfaces[{i}]: {e}") from None
     except KeyError as e:
         raise SceneError(f"{e.args[0]}: missing from {path.name}") from None
     except (TypeError, ValueError, AttributeError) as e:
@@ -794,6 +822,5 @@ def load(path) -> Scene:
         raise SceneError(f"scene file: malformed content in {path.name} ({e})") from None
     scene = Scene(meshes=meshes, spectra=spectra, materials=materials, lights=lights, ior_tables=ior_tables,
                   media=media, profiles=profiles, textures=textures, camera=camera, world=world, settings=settings,
-                  metadata=dict(doc.get("metadata") or {}),
-                  version=version)
+                  calculation_surfaces=surfaces, metadata=dict(doc.get("metadata") or {}), version=version)
     return validate(scene)

@@ -65,3 +65,40 @@ def test_missing_scene_is_a_usage_error(tmp_path):
     pts.write_text("0 0 0 0 0 1\n")
     r = run(["lux", "--sensors", str(pts)], tmp_path)
     assert r.returncode == 2 and "give a scene file or --builtin" in r.stderr
+
+
+@pytest.mark.slow
+def test_without_sensors_every_calculation_surface_gets_its_csv_summary_and_report(tmp_path):
+    """A work plane saved in the scene file: one CSV, one JSON summary (Ē, Emin, U0 and the
+    luminaire schedule) and the report page per surface."""
+    import json
+
+    from spectral_gi.core.lux import workplane
+
+    light = Light("lamp", C.LIGHT_POINT, (0.0, 0.0, HEIGHT), (0, 0, 0), (0, 0, 0), 0, 0.0, intensity=INTENSITY)
+    sc = plane_scene([light], max_depth=0)
+    sc.calculation_surfaces.append(workplane([(-1, -1), (1, -1), (1, 1), (-1, 1)], height=0.75, band=0.0,
+                                             name="desk"))
+    scene = save(sc, tmp_path / "office.json")
+    r = run(["lux", str(scene), "--spp", "32"], tmp_path)
+    assert r.returncode == 0, r.stderr
+    out = tmp_path / "office_lux"
+    summary = json.loads((out / "desk.json").read_text())
+    pts = sc.calculation_surfaces[0].points
+    v = np.array([0.0, 0.0, HEIGHT]) - pts
+    d = np.linalg.norm(v, axis=1)
+    exact = INTENSITY * v[:, 2] / d ** 3  # the plane is above the floor: the lamp alone
+    st = summary["statistics"]
+    assert st["mean"] == pytest.approx(exact.mean(), rel=0.01)
+    assert st["minimum"] == pytest.approx(exact.min(), rel=0.02)
+    assert summary["luminaires"] == [{"type": "point", "count": 1, "lumens": pytest.approx(4 * np.pi * INTENSITY),
+                                      "profile": ""}]
+    with open(out / "desk.csv", newline="") as f:
+        assert sum(1 for _ in f) == pts.shape[0] + 1
+    assert (out / "desk.png").stat().st_size > 10_000 and (out / "desk.pdf").read_bytes()[:5] == b"%PDF-"
+    assert "desk:" in r.stderr and "U0" in r.stderr
+
+
+def test_without_sensors_a_scene_without_surfaces_says_so(tmp_path, scene_file):
+    r = run(["lux", str(scene_file)], tmp_path)
+    assert r.returncode == 2 and "calculation_surfaces" in r.stderr and "--sensors" in r.stderr

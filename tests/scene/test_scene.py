@@ -183,3 +183,31 @@ def test_constants_are_stable():
     # tags are stored in files: they must never change
     assert (C.SPECTRUM_BOUNDED, C.SPECTRUM_UNBOUNDED, C.MAT_LAMBERT, C.LIGHT_RECT, C.LIGHT_ELLIPSE) == (0, 1, 0, 0, 1)
     assert C.N_LAMBDA == 471
+
+
+def test_calculation_surfaces_survive_save_and_load(tmp_path):
+    from spectral_gi.core.lux import rectangle_grid, workplane
+
+    sc = furnace_scene()
+    sc.calculation_surfaces = [workplane([(-1, -1), (1, -1), (1, 1), (-1, 1)], height=0.75, band=0.2, name="desk"),
+                               rectangle_grid((-1, 1, 0), (2, 0, 0), (0, 0, 1.5), name="wall", maintenance_factor=0.8)]
+    back = S.load(S.save(sc, tmp_path / "s.json"))
+    assert [s.name for s in back.calculation_surfaces] == ["desk", "wall"]
+    for a, b in zip(sc.calculation_surfaces, back.calculation_surfaces):
+        np.testing.assert_array_equal(a.points, b.points)
+        np.testing.assert_array_equal(a.normals, b.normals)
+        assert (a.kind, a.band, a.maintenance_factor, a.grid_shape) == (b.kind, b.band, b.maintenance_factor,
+                                                                         b.grid_shape)
+
+
+def test_calculation_surfaces_are_validated():
+    from spectral_gi.core.lux import workplane
+
+    sc = furnace_scene()
+    desk = workplane([(-1, -1), (1, -1), (1, 1), (-1, 1)], name="desk")
+    sc.calculation_surfaces = [desk, desk]
+    with pytest.raises(S.SceneError, match=r"calculation_surfaces\[1\].*second surface named 'desk'"):
+        S.validate(sc)
+    sc.calculation_surfaces = ["desk"]
+    with pytest.raises(S.SceneError, match=r"calculation_surfaces\[0\]: expected a CalculationSurface"):
+        S.validate(sc)

@@ -92,6 +92,7 @@ def test_fourier_order_sets_the_width_of_every_spectrum(ext, bpy, order):
     np.testing.assert_allclose(scene.spectra.coeffs[row], full[:order], rtol=1e-12, atol=1e-14)
 
 
+@pytest.mark.slow
 def test_acescg_output_is_a_pass_and_combined_stays_rec709(ext, bpy, tmp_path):
     b = ext.build
     scene_with(b)

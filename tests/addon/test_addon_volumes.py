@@ -219,6 +219,7 @@ def absorbing_cube_scene(ext, bpy, density, grey=0.5, size=1.0):
     return b
 
 
+@pytest.mark.slow
 def test_absorbing_cube_transmits_beer_lambert(ext, bpy):
     import importlib
 

@@ -80,6 +80,7 @@ def run_sample(case, wo, n, seed):
 
 # -- item 44: reciprocity -----------------------------------------------------------------
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", REFLECTIVE)
 def test_reciprocity(name):  # item 44
     model, p, ra, rb, eta, kappa = CASES[name]
@@ -362,6 +363,7 @@ WHITE_PLASTIC_SETS = [(1.5, 0.1, None), (1.5, 0.5, None), (1.33, 0.05, None), (2
 PLASTIC_ANGLES = (0.0, 15.0, 30.0, 45.0, 60.0, 75.0, 85.0, 89.0, 89.9)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("eta,ax,ay", WHITE_PLASTIC_SETS)
 def test_plastic_albedo_at_most_one(eta, ax, ay):
     """White base and white coat at 0-89.9°: the base reflects exactly ρ (1 − F(cos θo))

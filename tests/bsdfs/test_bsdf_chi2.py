@@ -123,6 +123,7 @@ def chi2_bsdf(case, wo, alpha, name, n=N_SAMPLES, n_z=12, n_phi=24):
     return chi2.chi2_test(obs, exp, alpha, name, extra={"observed_grid": hist.T, "expected_grid": exp_grid}), total
 
 
+@pytest.mark.slow
 @pytest.mark.statistical
 @pytest.mark.parametrize("theta", ANGLES)
 @pytest.mark.parametrize("name", list(CASES))
@@ -137,6 +138,7 @@ def test_bsdf_sampling_chi2(name, theta, alpha):
         assert total == pytest.approx(1.0, abs=2e-3)
 
 
+@pytest.mark.slow
 @pytest.mark.statistical
 @pytest.mark.parametrize("name", ["ggx_diel_0.5", "ggx_diel_aniso"])
 def test_bsdf_sampling_chi2_from_inside(name, alpha):

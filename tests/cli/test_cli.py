@@ -17,6 +17,7 @@ def run(args, cwd, **kw):
     return subprocess.run(CLI + args, cwd=cwd, capture_output=True, text=True, timeout=600, **kw)
 
 
+@pytest.mark.slow
 def test_render_default_scene_writes_exr_and_png(tmp_path):
     r = run(["render", "--width", "24", "--height", "20", "--spp", "4", "--out", "box.exr"], tmp_path)
     assert r.returncode == 0, r.stderr
@@ -30,12 +31,14 @@ def test_render_default_scene_writes_exr_and_png(tmp_path):
     assert png.shape == (20, 24, 3) and png.max() > 100
 
 
+@pytest.mark.slow
 def test_default_output_name_is_cornell(tmp_path):
     r = run(["render", "--width", "8", "--height", "8", "--spp", "1"], tmp_path)
     assert r.returncode == 0, r.stderr
     assert (tmp_path / "cornell.exr").is_file() and (tmp_path / "cornell.png").is_file()
 
 
+@pytest.mark.slow
 def test_scene_file_round_trip_through_cli(tmp_path):
     r = run(["save-default-scene", "scene.json"], tmp_path)
     assert r.returncode == 0, r.stderr

@@ -82,6 +82,7 @@ def _cli(*args, timeout=1200):
                           capture_output=True, text=True, timeout=timeout)
 
 
+@pytest.mark.slow
 @pytest.mark.blender
 def test_render_blend_end_to_end(tmp_path):
     """The file is rendered by the registered engine (F12's path): its passes, its units, --spp honoured."""
@@ -127,6 +128,7 @@ def _one_line_error(proc, *needles):
         assert needle in errors[0], errors[0]
 
 
+@pytest.mark.slow
 @pytest.mark.blender
 def test_render_blend_failures_are_one_line(tmp_path):
     pytest.importorskip("bpy")

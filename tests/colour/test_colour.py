@@ -129,6 +129,7 @@ def test_sd_to_XYZ_1000_random_1nm_reflectances(rng):
     close(C.sd_to_XYZ(wl, R, "D65"), ref)
 
 
+@pytest.mark.slow
 def test_sd_to_XYZ_1000_random_5nm_reflectances_sprague(rng):
     wl = np.arange(380.0, 781.0, 5.0)
     R = rng.uniform(0.0, 1.0, size=(1000, wl.size))

@@ -169,6 +169,7 @@ def test_10_degree_film_checkpoint_round_trip_and_resume(tmp_path):
         R.render(scene, threads=1, resume=back)
 
 
+@pytest.mark.slow
 def test_cli_writes_acescg_with_its_chromaticities(tmp_path):
     r = subprocess.run([sys.executable, "-m", "spectral_gi.cli", "render", "--width", "6", "--height", "5",
                         "--spp", "1", "--colour-space", "acescg", "--observer", "1964", "--out", "a.exr"],

@@ -44,6 +44,7 @@ def _rendered_xy(light):
     return np.array([colour.XYZ_to_xy(XYZ[_patch_pixels(i)].reshape(-1, 3).mean(0)) for i in range(24)])
 
 
+@pytest.mark.slow
 @pytest.mark.statistical
 def test_colorchecker_under_3000K_and_F11_matches_colour_science():
     got = {light: _rendered_xy(light) for light in ("blackbody:3000", "FL11")}

@@ -80,6 +80,7 @@ def test_empty_scene():
     assert np.all(np.isinf(t)) and np.all(tri == -1)
 
 
+@pytest.mark.slow
 def test_visibility_agrees_with_closest_hit_and_is_symmetric():
     """V(x, y) (item 4): any-hit agrees with closest-hit, and V(x, y) = V(y, x)."""
     rng = np.random.default_rng(7)

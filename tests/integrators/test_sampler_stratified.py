@@ -164,6 +164,7 @@ def test_stratified_mean_is_unbiased_over_seeds():
     assert abs(np.mean(means) - r) < 4 * np.hypot(se, np.sqrt(ref.develop().variance.sum()) / ref.sums[..., 0].size)
 
 
+@pytest.mark.slow
 def test_pair_draws_equal_two_single_draws():
     """The path kernel's paired draw (light sample, BSDF sample) gives exactly the two values
     of two single draws, for every sampler, aligned or not, across the stratified sampler's

@@ -17,6 +17,7 @@ def rendered():
     core.render(core.cornell_box(8, 8, spp=1, max_depth=3), threads=1)
 
 
+@pytest.mark.slow
 def test_plan_matches_the_kernels_type_inference(rendered):
     """Every helper the kernel calls, with the argument types it calls it with, is recorded,
     and nothing else (re-record with `python benchmarks/compile_bench.py --record`)."""
@@ -29,6 +30,7 @@ def test_groups_split_the_plan():
     assert names - warmup.HELPER_GROUP, "this process would compile nothing ahead"
 
 
+@pytest.mark.slow
 def test_second_process_imports_the_package_under_blenders_name(rendered, tmp_path):
     """Blender imports the extension as bl_ext.<repository>.spectral_gi: the second process
     imports it under the same dotted name without running the add-on's __init__ (which

@@ -23,6 +23,7 @@ def test_sampler_tags():
     assert list(qmc.PRIMES) == O.first_primes(len(qmc.PRIMES))
 
 
+@pytest.mark.slow
 def test_exact_low_index_values():
     vdc = qmc_points(8, 1, SAMPLER_HALTON, RANDOMIZE_NONE)[:, 0]
     assert list(vdc) == [0.0, 0.5, 0.25, 0.75, 0.125, 0.625, 0.375, 0.875]

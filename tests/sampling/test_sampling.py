@@ -50,6 +50,7 @@ for n, tm in ((0, 0.7), (1, 1.2), (10, 0.3), (100, 0.05), (100, 1e-3)):
                             (lambda k, t: lambda w: O.cosn_cone_pdf(k, t, w))(n, tm), cone_range(tm)))
 
 
+@pytest.mark.slow
 @pytest.mark.statistical
 @pytest.mark.parametrize("name,tag,params,pdf,zr", DIRECTION_CASES, ids=[c[0] for c in DIRECTION_CASES])
 def test_direction_warps_chi2(name, tag, params, pdf, zr, alpha):
@@ -61,6 +62,7 @@ def test_direction_warps_chi2(name, tag, params, pdf, zr, alpha):
     assert res.passed, res.message
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name,tag,params,pdf,zr", DIRECTION_CASES, ids=[c[0] for c in DIRECTION_CASES])
 def test_direction_warps_pdf_matches_oracle(name, tag, params, pdf, zr):
     w, p, _ = sample(tag, params, n=20_000, name=name)
@@ -224,6 +226,7 @@ def _tri_setup(name):
     return a, b, c, axis, (lo - pad, hi + pad)
 
 
+@pytest.mark.slow
 @pytest.mark.statistical
 @pytest.mark.parametrize("name", list(TRIANGLES))
 def test_spherical_triangle_chi2(name, alpha):
@@ -311,6 +314,7 @@ def test_double_axis_moments_against_quadrature():
         assert abs(f - fq) <= 1e-9 * full, (n, d, f, fq)
 
 
+@pytest.mark.slow
 def test_double_axis_moments_against_brute_force_grid():
     for n, theta_m in ((0, 0.4), (1, 1.2), (3, HALF_PI), (10, HALF_PI + 0.2), (20, 1.0)):
         m = np.array([math.sin(theta_m), 0.0, math.cos(theta_m)])
@@ -342,6 +346,7 @@ def test_double_axis_moment_identities():
 LOBE_CASES = [(n, th) for n in (0, 1, 10, 100) for th in (0.0, 0.6, 1.3, HALF_PI - 0.02, HALF_PI + 0.15)]
 
 
+@pytest.mark.slow
 @pytest.mark.statistical
 @pytest.mark.parametrize("n,theta_m", LOBE_CASES, ids=[f"n{n}-axis{t:.3f}" for n, t in LOBE_CASES])
 def test_offnormal_lobe_chi2(n, theta_m, alpha):
@@ -364,6 +369,7 @@ def test_offnormal_lobe_chi2(n, theta_m, alpha):
     np.testing.assert_allclose(p, O.offnormal_cosn_pdf(n, m, w, g), rtol=1e-7)
 
 
+@pytest.mark.slow
 def test_offnormal_lobe_pdf_integrates_to_one():
     for n, th in ((1, 1.3), (10, HALF_PI + 0.1), (40, 0.5)):
         m = [n, math.sin(th), 0.0, math.cos(th)]
@@ -518,6 +524,7 @@ def test_distribution_builder_rejects_bad_input():
 
 # -- disk and triangle area samplers -----------------------------------------------------------
 
+@pytest.mark.slow
 @pytest.mark.statistical
 @pytest.mark.parametrize("tag", [T.WARP_DISK_CONCENTRIC, T.WARP_DISK_POLAR], ids=["concentric", "polar"])
 def test_disk_chi2_and_inverse(tag, alpha):
@@ -704,6 +711,7 @@ def test_estimator_statistics():
 
 # -- negative controls: the harness rejects wrong samplers ---------------------------------------
 
+@pytest.mark.slow
 def test_harness_rejects_a_wrong_sampler():
     """The chi-square harness has power: slightly wrong densities fail."""
     w, _, _ = sample(T.WARP_COSN, [10], name="neg")

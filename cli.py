@@ -93,8 +93,10 @@ def _parser():
                    help="maximum number of bounces, as Cycles' Max Bounces (0: direct light only; default 64)")
     r.add_argument("--seed", type=_non_negative_int, help="random seed")
     r.add_argument("--sampler", choices=("independent", "halton", "hammersley", "stratified"),
-                   help="sample generator: independent random numbers, or Owen-scrambled Halton or "
-                        "Hammersley points per pixel, or stratified pixel positions (default: the scene's, stratified)")
+                   help="sample generator: independent random numbers; Owen-scrambled Halton or Hammersley "
+                        "points per pixel; or stratified: Sobol (0, 2) pixel positions with a per-pixel digital "
+                        "shift and Owen-scrambled Sobol pairs for the other dimensions (default: the scene's, "
+                        "stratified)")
     r.add_argument("--time-limit", type=float, help="stop after this many seconds of rendering (default: the scene's; "
                                                     "0: none)")
     r.add_argument("--noise-target", type=float,

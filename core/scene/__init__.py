@@ -3,7 +3,7 @@
 A :class:`Scene` is a versioned set of typed, contiguous arrays plus a few small
 records. :func:`validate` checks every field and raises :class:`SceneError` with a
 message naming the field. :func:`save` / :func:`load` write and read the portable
-format described in ``docs/scene-format.md``: one JSON file for the records and one
+format described in ``docs/reference/scene-format.md``: one JSON file for the records and one
 ``.npz`` beside it for the arrays (never pickle).
 
 Units: lengths in metres, world space with Blender's axes (+Z up). Spectra are

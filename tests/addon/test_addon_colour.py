@@ -116,6 +116,7 @@ def test_acescg_output_is_a_pass_and_combined_stays_rec709(ext, bpy, tmp_path):
     assert not any(k.startswith("Colour Output") for k in read_multilayer(tmp_path / "rec.exr"))
 
 
+@pytest.mark.slow
 def test_observer_keeps_the_luminance_pass(ext, bpy, tmp_path):
     b = ext.build
     scene_with(b)

@@ -81,6 +81,7 @@ def test_bad_arguments_exit_2(tmp_path):
     assert r.returncode == 2 and ".exr" in r.stderr
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
 def test_ctrl_c_stops_cleanly_and_writes_partial_result(tmp_path):
     p = subprocess.Popen(CLI + ["render", "--width", "64", "--height", "64", "--spp", "100000"], cwd=tmp_path,

@@ -1,4 +1,5 @@
 """Operators."""
-from . import compare, cornell, render
+from . import compare, cornell, lux, render
 
-classes = (render.SPECTRALGI_OT_render, cornell.SPECTRALGI_OT_add_cornell_box, compare.SPECTRALGI_OT_compare_cycles)
+classes = (render.SPECTRALGI_OT_render, cornell.SPECTRALGI_OT_add_cornell_box, compare.SPECTRALGI_OT_compare_cycles) \
+    + lux.classes

@@ -1,0 +1,77 @@
+"""Calculation surfaces: ``bpy.types.Object.spectral_gi_lux`` (settings and the last result, kept in the .blend)."""
+import bpy
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
+
+KINDS = (
+    ("GRID", "Grid", "A regular grid over the planar mesh (EN 12464-1 spacing), shown as a new grid object"),
+    ("VERTICES", "Vertices", "One point at every mesh vertex, coloured per vertex"),
+    ("FACES", "Faces", "One point at every triangle's centre, coloured per face"),
+)
+SPACING = (
+    ("AUTO", "EN 12464-1", "Spacing p = 0.2 · 5^log10(d) m from the area's size d (EN 12464-1:2021)"),
+    ("USER", "User", "The spacing given below, in metres"),
+)
+
+
+class SpectralGILuxSurface(bpy.types.PropertyGroup):
+    """A mesh marked as a calculation surface, and the statistics of its last calculation."""
+
+    enabled: BoolProperty(name="Calculation Surface", default=False,
+                          description="Calculate the illuminance (lx) on this mesh (on/off, no unit)")
+    kind: EnumProperty(name="Points", items=KINDS, default="GRID",
+                       description="Where the calculation points lie on the mesh (no unit)")
+    spacing_mode: EnumProperty(name="Spacing", items=SPACING, default="AUTO",
+                               description="How the grid spacing (m) is chosen")
+    spacing: FloatProperty(name="Spacing", default=0.5, min=0.01, soft_max=10.0, unit="LENGTH",
+                           description="Grid spacing in metres (User spacing)")
+    band: FloatProperty(name="Band", default=0.0, min=0.0, soft_max=5.0, unit="LENGTH",
+                        description="Strip along the outline left out of the grid, in metres")
+    maintenance_factor: FloatProperty(name="Maintenance Factor", default=1.0, min=0.01, max=1.0,
+                                      description="CIE 97 maintenance factor (no unit, 0 to 1): reported values "
+                                                  "are MF × initial illuminance")
+    samples: IntProperty(name="Samples", default=64, min=1, soft_max=4096,
+                         description="Samples per point (a count): the most taken per point")
+    rel_error: FloatProperty(name="Relative Error", default=0.0, min=0.0, max=1.0,
+                             description="Stop a point's sampling at this relative standard error "
+                                         "(a fraction, 0: off, always take all samples)")
+    # the last result
+    valid: BoolProperty(name="Result Available", default=False,
+                        description="True once the illuminance was calculated (no unit)")
+    mean: FloatProperty(name="Ē", default=0.0, description="Area-weighted mean maintained illuminance in lx")
+    minimum: FloatProperty(name="Emin", default=0.0, description="Smallest maintained illuminance in lx")
+    maximum: FloatProperty(name="Emax", default=0.0, description="Largest maintained illuminance in lx")
+    u0: FloatProperty(name="U0", default=0.0, description="Uniformity Emin / Ē (no unit; 0 when Ē = 0)")
+    ud: FloatProperty(name="Ud", default=0.0, description="Uniformity Emin / Emax (no unit; 0 when Emax = 0)")
+    n_points: IntProperty(name="Points", default=0, description="Number of calculation points (a count)")
+    spacing_u: FloatProperty(name="Spacing U", default=0.0, description="Grid spacing used along u, in metres")
+    spacing_v: FloatProperty(name="Spacing V", default=0.0, description="Grid spacing used along v, in metres")
+    band_used: FloatProperty(name="Band Used", default=0.0, description="Band used, in metres")
+    mf_used: FloatProperty(name="MF Used", default=1.0, description="Maintenance factor used (no unit)")
+    samples_used: IntProperty(name="Samples Used", default=0, description="Most samples taken at a point (a count)")
+    max_rel_error: FloatProperty(name="Max Relative Error", default=0.0,
+                                 description="Largest relative standard error over the points (a fraction)")
+    result_object: StringProperty(name="Result Object", default="",
+                                  description="Name of the object carrying the false colours (no unit)")
+
+
+classes = (SpectralGILuxSurface,)
+PROPERTY = "spectral_gi_lux"
+
+
+def register_properties():
+    setattr(bpy.types.Object, PROPERTY, bpy.props.PointerProperty(
+        type=SpectralGILuxSurface, name="Lighting Analysis",
+        description="Calculation surface settings and last result (lx)"))
+    bpy.types.Scene.spectral_gi_workplane_height = FloatProperty(
+        name="Work Plane Height", default=0.75, min=0.0, soft_max=3.0, unit="LENGTH",
+        description="Height of a new work plane above the floor, in metres")
+    bpy.types.Scene.spectral_gi_report_dir = StringProperty(
+        name="Report Folder", default="", subtype="DIR_PATH",
+        description="Folder for the lux reports (a path; empty: beside the .blend file, or the temporary folder)")
+
+
+def unregister_properties():
+    for owner, name in ((bpy.types.Scene, "spectral_gi_report_dir"), (bpy.types.Scene, "spectral_gi_workplane_height"),
+                        (bpy.types.Object, PROPERTY)):
+        if hasattr(owner, name):
+            delattr(owner, name)

@@ -31,7 +31,7 @@ def test_register_unregister_register(ext, bpy):
     ext.module.register()
     assert all(registered(bpy).values())
     s = bpy.context.scene.spectral_gi
-    assert (s.samples, s.max_bounces, s.seed, s.threads) == (64, 16, 0, 0)
+    assert (s.samples, s.max_bounces, s.seed, s.threads) == (64, 64, 0, 0)
     # the engine's own panels show again with the engine selected (their COMPAT_ENGINES
     # survive the cycle), and Blender's generic panels list the engine again
     engine = bpy.context.scene.render.engine

@@ -179,7 +179,7 @@ def _save_png_as_blender_shows_it(bpy, scene, png, ov):
     """Write the render's PNG through Blender's colour management (the scene's view
     transform, look, exposure and gamma), so it looks as F12 shows it. Returns the view's
     name, or None when Blender has no Render Result to save."""
-    from ..core.io.atomic import atomic_path
+    from ..core import atomic_path
 
     img = bpy.data.images.get("Render Result")
     if img is None:

@@ -3,6 +3,9 @@
 The add-on and the command line use only the names in ``__all__``.
 """
 from . import constants
+from . import lux  # lighting analysis: calculation surfaces, grids, reports, false colour
+from .io.atomic import atomic_path
+from .io.atomic import write_text as write_text_atomic
 from .film import Developed, Film, develop
 from .io.exr import read_channels as read_exr
 from .io.exr import write_render as write_exr
@@ -43,7 +46,7 @@ from .scene import Profile
 from .integrators.sensors import has_sensors, illuminance_image, illuminance_stats, render_illuminance
 
 __all__ = [
-    "constants",
+    "constants", "lux", "atomic_path", "write_text_atomic",
     "Scene", "Mesh", "Material", "Light", "Camera", "World", "RenderSettings", "SpectrumTable", "Medium",
     "SceneError", "validate", "load_scene", "save_scene",
     "reflectance_from_rgb", "emission_from_rgb", "reflectance_from_samples", "emission_from_samples",

@@ -262,10 +262,10 @@ def output_dir(scene):
 def write_json_atomic(path, doc):
     """Write ``doc`` as JSON to ``path``: a temporary file in the same folder, then an atomic rename."""
     folder = os.path.dirname(os.path.abspath(path)) or "."
-    from ...core.io.atomic import write_text
+    from ...core import write_text_atomic
 
     os.makedirs(folder, exist_ok=True)
-    write_text(path, json.dumps(doc, indent=1))  # readable by the group, as the images are
+    write_text_atomic(path, json.dumps(doc, indent=1))  # readable by the group, as the images are
     return path
 
 

@@ -4,6 +4,7 @@ The add-on and the command line use only the names in ``__all__``.
 """
 from . import constants
 from .film import Developed, Film, develop
+from .farm import Farm, FarmError  # render farms on Dask (imported when used)
 from .io.exr import read_channels as read_exr
 from .io.exr import write_render as write_exr
 from .io.png import write_png
@@ -43,6 +44,7 @@ from .scene import Profile
 from .integrators.sensors import has_sensors, illuminance_image, illuminance_stats, render_illuminance
 
 __all__ = [
+    "Farm", "FarmError",
     "constants",
     "Scene", "Mesh", "Material", "Light", "Camera", "World", "RenderSettings", "SpectrumTable", "Medium",
     "SceneError", "validate", "load_scene", "save_scene",

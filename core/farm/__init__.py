@@ -200,6 +200,7 @@ def render_farm(scene, client, *, engine, progress=None, should_cancel=None, on_
     say = status or (lambda text: None)
     validate(scene)
     film = engine.start_film(scene, resume, spectral_bins)
+    spectral_bins = film.spectral_bins  # a resumed film's
     total = int(scene.settings.spp)
     st = scene.settings
     cam = scene.camera

@@ -76,7 +76,7 @@ class Farm:
             import logging
 
             self.cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                                    dashboard_address=None, silence_logs=logging.ERROR)
+                                                    dashboard_address=None, silence_logs=logging.CRITICAL)
             self.threads = max(1, (os.cpu_count() or 1) // n)
             self.client = distributed.Client(self.cluster)
         else:

@@ -5,6 +5,9 @@
 Measured here, on the Cornell box at ``--size``² pixels and ``--spp`` samples (chunks of
 16 samples, one task per chunk):
 
+* what the chunks cost a render on one machine: the same passes (8 samples each) added
+  sample by sample to one film, and chunk by chunk as the film does (one more film add
+  per chunk);
 * the plain local render (``render(threads=--threads)``) against ``local:1`` and
   ``local:2`` (LocalClusters of one and two worker processes, started before the clock
   runs and warmed by one render, so the figures leave out the workers' start and kernel
@@ -63,6 +66,28 @@ def _warm():
     render(cornell_box(width=2, height=2, spp=1), threads=1)
 
 
+def _chunk_cost(sc, threads, reps=3):
+    """The local render's cost of its chunks: the same passes of 8 samples added to one film
+    sample by sample (run_pass) and chunk by chunk (add_samples), best of ``reps`` each."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from spectral_gi.core.film import Film
+    from spectral_gi.core.integrators.render import add_samples, prepare, run_pass
+
+    prep = prepare(sc)
+    spp = sc.settings.spp
+    best = {"one film": float("inf"), "chunks": float("inf")}
+    with ThreadPoolExecutor(threads) as pool:
+        for _ in range(reps):
+            for name, fn in (("one film", run_pass), ("chunks", add_samples)):
+                film = Film(sc.camera.width, sc.camera.height)
+                t0 = time.perf_counter()
+                for s0 in range(0, spp, 8):
+                    fn(prep, film, s0, min(spp, s0 + 8), pool)
+                best[name] = min(best[name], time.perf_counter() - t0)
+    return best
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--size", type=int, default=128)
@@ -79,6 +104,7 @@ def main(argv=None):
 
     sc = cornell_box(width=args.size, height=args.size, spp=args.spp, seed=1)
     render(cornell_box(width=4, height=4, spp=1), threads=1)  # kernels compiled or loaded here
+    chunked = _chunk_cost(sc, args.threads)
     n_batches = -(-args.spp // CHUNK_SPP)
     t_local, first_local, ref = _timed_render(render, sc, threads=args.threads)
     rows = [["local render", args.threads, round(t_local, 2), round(first_local, 3), "—", "—", "yes"]]
@@ -97,7 +123,7 @@ def main(argv=None):
         rows.append([f"local:{n}", f"{n} × {farm.threads}", round(t, 2), round(first, 3),
                      round(1e3 * (t - t_local) / n_batches, 1), round(start, 1), "yes" if same else "NO"])
         farm.close()
-    print(f"{args.size}×{args.size} px, {args.spp} spp, {n_batches} batches")
+    print(f"{args.size}×{args.size} px, {args.spp} spp, {n_batches} batches; chunks {chunked}")
     for r in rows:
         print(r)
 
@@ -136,6 +162,11 @@ def main(argv=None):
                       "spp (measured)",
                       ["render", "workers × threads", "wall s", "first batch merged s", "overhead ms / batch",
                        "cluster start + kernel load s", "bit-identical"], rows),
+        results.table("The film's chunks on one machine: passes of 8 spp, best of 3 (measured)",
+                      ["accumulation", "wall s", "relative"],
+                      [["every sample into one film (no chunks)", round(chunked["one film"], 3), 1.0],
+                       ["chunks of 16 spp added in order", round(chunked["chunks"], 3),
+                        round(chunked["chunks"] / chunked["one film"], 3)]]),
         results.table("Bytes moved and fixed costs (measured)", ["quantity", "value"], [
             ["result of one batch at this size, bytes", batch_bytes],
             ["result of one batch, 1920×1080 film, MB", round(hd_bytes / 1e6, 1)],

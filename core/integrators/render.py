@@ -105,8 +105,12 @@ def run_pass(prep: Prepared, film: Film, s0: int, s1: int, pool=None):
     """Add samples [s0, s1) of every pixel to ``film``.
 
     With a ``concurrent.futures`` ``pool``, blocks of rows run on its threads (the kernel
-    releases the GIL); without one, on the calling thread. The result is the same.
+    releases the GIL); without one, on the calling thread. The result is the same. The
+    samples are summed one by one into the film's arrays: a render adds its samples with
+    :func:`add_samples`, chunk by chunk.
     """
+    if film.tail_spp:
+        raise ValueError("run_pass: the film holds an incomplete chunk apart; add samples with add_samples")
     h = film.height
     if pool is None:
         _rows(prep, film, 0, h, s0, s1)

@@ -104,6 +104,9 @@ def _out_folder(path, mkdir, option="--out"):
     if not mkdir:
         raise SceneError(f"{option}: the folder {folder} does not exist (give --mkdir to create it)")
     folder.mkdir(parents=True, exist_ok=True)
+SCHEDULER_HELP = ("render on a Dask farm: tcp://host:8786 (a running scheduler) or local:N (N worker processes "
+                  "started here); the image is the same as a local render's. Needs pip install "
+                  "\"spectral-gi[farm]\"")
 
 
 def _parser():
@@ -149,6 +152,12 @@ def _parser():
                    help="also write the spectral radiance in this many bins of 360-830 nm as "
                         "S0.<wavelength>nm channels (Fichet et al. 2021 layout; default 0: off)")
     r.add_argument("--exposure", type=float, default=0.0, help="exposure of the PNG preview in stops (default 0)")
+    r.add_argument("--scheduler", metavar="ADDRESS", help=SCHEDULER_HELP)
+    r.add_argument("--batch-spp", type=_positive_int,
+                   help="with --scheduler: samples per farm task, a multiple of 16 (default 16)")
+    r.add_argument("--checkpoint", metavar="FILE.npz",
+                   help="save the film to this file as it renders (after each farm batch; locally every 10 s) "
+                        "and resume from it when it exists")
     b = sub.add_parser("render-blend", help="render a .blend file with the bpy module (no Blender window) to "
                                             "OpenEXR + PNG, optionally compared with Cycles")
     b.add_argument("blend", help="the .blend file")
@@ -159,6 +168,9 @@ def _parser():
                    help="also render with Cycles at matched settings and report luminance ratio, relative RMSE "
                         "and ΔE00 (images and report beside --out)")
     b.add_argument("--json", help="write a JSON report of the render (and the comparison) to this file")
+    b.add_argument("--frames", help="render these frames (N, A-B or a list, e.g. 1-24): --out's run of '#' (or "
+                                    "_NNNN before .exr) takes the frame number; frames already written are skipped")
+    b.add_argument("--scheduler", metavar="ADDRESS", help=SCHEDULER_HELP + " (with --frames: one task per frame)")
     lx = sub.add_parser("lux", help="illuminance (lux) at sensor points, as Radiance's rtrace -I: a .pts file in, "
                                     "a CSV of lux and standard errors out")
     lx.add_argument("scene", nargs="?", help="scene file (.json with its .npz beside it) or scene folder")
@@ -178,6 +190,7 @@ def _parser():
                     help="bounces after the first (default: unlimited, Russian roulette ends paths without bias)")
     lx.add_argument("--seed", type=_non_negative_int, help="random seed (default: the scene's)")
     lx.add_argument("--threads", type=_non_negative_int, default=0, help="worker threads (0: all cores)")
+    lx.add_argument("--scheduler", metavar="ADDRESS", help=SCHEDULER_HELP + " (the points split across workers)")
     s = sub.add_parser("save-default-scene", help="write the built-in Cornell box as a scene file")
     s.add_argument("out", help="output scene file (.json; the .npz is written beside it)")
     s.add_argument("--mkdir", action="store_true", help=MKDIR_HELP)
@@ -283,13 +296,21 @@ def _render(args):
         sys.stderr.write("\nInterrupted: finishing the current pass and writing what was rendered "
                          "(Ctrl-C again to quit at once)\n")
 
+    resume = None
+    if args.checkpoint and Path(args.checkpoint).is_file():
+        from .core.film import Film
+
+        resume = Film.load(args.checkpoint)
     old = signal.signal(signal.SIGINT, on_sigint)
     bar = _Progress()
     try:
         bar.status(f"Rendering {scene.metadata.get('name', args.scene or 'scene')}: {cam.width}x{cam.height}, "
-                   f"{st.spp} spp, max depth {st.max_depth}, {scene.n_triangles} triangles")
+                   f"{st.spp} spp, max depth {st.max_depth}, {scene.n_triangles} triangles"
+                   + (f", resuming at {resume.spp} spp from {args.checkpoint}" if resume is not None else ""))
         film, stats = render(scene, threads=args.threads or None, progress=bar, status=bar.status,
-                             should_cancel=lambda: stop["requested"], spectral_bins=args.spectral_bins)
+                             should_cancel=lambda: stop["requested"], spectral_bins=args.spectral_bins,
+                             client=args.scheduler, batch_spp=args.batch_spp, checkpoint=args.checkpoint,
+                             resume=resume)
     finally:
         signal.signal(signal.SIGINT, old)
     dev = film.develop(white_balance=white_balance, colour_space=st.colour_space)
@@ -314,10 +335,6 @@ def _render(args):
 
 def _lux(args):
     """``lux``: illuminance at the points of a ``.pts`` file, written as a CSV in input order."""
-    import numpy as np
-
-    from .core.integrators.illuminance import illuminance
-    from .core.lux import calculate_pts_file
     from .core.scene import SceneError, load
     from .core.scene.builtin import BUILTIN_SCENES
 
@@ -331,6 +348,23 @@ def _lux(args):
     bar = _Progress()
     done = {"spp": 0}
     t0 = time.perf_counter()
+    farm = None
+    if args.scheduler:  # one farm for every surface's points
+        from .core.farm import Farm
+
+        farm = Farm(args.scheduler)
+    try:
+        return _lux_run(args, scene, bar, done, t0, farm)
+    finally:
+        if farm is not None:
+            farm.close()
+
+
+def _lux_run(args, scene, bar, done, t0, farm):
+    import numpy as np
+
+    from .core.integrators.illuminance import illuminance
+    from .core.lux import calculate_pts_file
 
     def progress(samples, total):
         bar(samples, total, samples / max(time.perf_counter() - t0, 1e-9))
@@ -338,7 +372,7 @@ def _lux(args):
     def estimate(sc, points, normals):
         lux, se, spp = illuminance(sc, points, normals, spp=4096 if args.rel_error else args.spp,
                                    rel_error=args.rel_error, max_depth=args.max_depth, seed=args.seed,
-                                   threads=args.threads or None, progress=progress)
+                                   threads=args.threads or None, progress=progress, client=farm)
         done["spp"] = int(np.sum(spp))
         return lux, se
 
@@ -408,6 +442,7 @@ def _render_blend(args):
 def main(argv=None):
     parser = _parser()
     args = parser.parse_args(argv)
+    from .core.farm import FarmError
     from .core.scene import SceneError
 
     if args.command is None:  # bare ``spectral-gi``: what it can do
@@ -429,6 +464,8 @@ def main(argv=None):
             return EXIT_OK
     except SceneError as e:
         return _fail(str(e))
+    except FarmError as e:
+        return _fail(" ".join(str(e).split()), EXIT_ERROR)
     except (OSError, ValueError) as e:
         return _fail(str(e), EXIT_ERROR if isinstance(e, OSError) else EXIT_USAGE)
     return EXIT_USAGE

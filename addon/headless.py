@@ -15,8 +15,12 @@ import io
 import json
 import math
 import os
+import re
+import socket
+import subprocess
 import sys
 import time
+import uuid
 from pathlib import Path
 
 BLEND_MAGIC = (b"BLENDER", b"\x28\xb5\x2f\xfd", b"\x1f\x8b")  # plain, zstd- and gzip-compressed .blend
@@ -68,8 +72,29 @@ def read_multilayer_exr(path):
     return out
 
 
-def render_blend(blend, out, spp=None, compare_cycles=False, json_path=None, stream=None):
-    """Render ``blend`` to ``out`` (.exr, with a .png beside it). Returns a dict summary (also the JSON report)."""
+def missing_files(bpy):
+    """[(what, path)] of the external files the open .blend renders with that are not on this
+    machine: images used by something (neither packed nor generated) and linked libraries."""
+    out = []
+    for img in bpy.data.images:
+        if img.users == 0 or img.packed_file is not None or img.source not in ("FILE", "SEQUENCE"):
+            continue
+        path = bpy.path.abspath(img.filepath, library=img.library)
+        if path and not os.path.isfile(path):
+            out.append((f"image {img.name!r}", os.path.normpath(path)))
+    for lib in bpy.data.libraries:
+        path = bpy.path.abspath(lib.filepath)
+        if not os.path.isfile(path):
+            out.append((f"library {lib.name!r}", os.path.normpath(path)))
+    return out
+
+
+def render_blend(blend, out, spp=None, compare_cycles=False, json_path=None, stream=None, frame=None,
+                 require_files=False):
+    """Render ``blend`` to ``out`` (.exr, with a .png beside it). Returns a dict summary (also the JSON report).
+    frame: the frame to render (None: the file's current frame); require_files: fail, naming
+    the file, when an image or library the file uses is missing (a render farm's machines
+    must all see the same files)."""
     stream = stream or sys.stderr
 
     def say(text):
@@ -91,6 +116,14 @@ def render_blend(blend, out, spp=None, compare_cycles=False, json_path=None, str
     except RuntimeError as exc:
         raise HeadlessError(f"{blend}: Blender cannot open it ({one_line(exc)})") from None
     scene = bpy.context.scene
+    if require_files:
+        missing = missing_files(bpy)
+        if missing:
+            what, path = missing[0]
+            more = f" (and {len(missing) - 1} more)" if len(missing) > 1 else ""
+            raise HeadlessError(f"{blend}: {what}: {path} is missing on {socket.gethostname()}{more}")
+    if frame is not None:
+        scene.frame_set(int(frame))
     if scene.camera is None:
         raise HeadlessError(f"{blend}: scene {scene.name!r} has no active camera")
 
@@ -162,7 +195,8 @@ def render_blend(blend, out, spp=None, compare_cycles=False, json_path=None, str
         say(f"wrote {out} (passes {', '.join(passes)}) and {png}: {render_job.STATE.message or f'{samples} spp'}, "
             f"mean luminance {mean_lum:.4g} cd/m²")
         if compare_cycles:
-            report = compare_with_cycles(scene, None, out_dir=str(out.parent), ours=(rgb, samples, summary["seconds"]),
+            report = compare_with_cycles(scene, None, out_dir=str(out.parent),
+                                         ours=(rgb, samples, summary["seconds"]),
                                          json_path=str(json_path) if json_path else None, log=say)
             summary["comparison"] = report
             say(f"Cycles comparison: luminance ratio {report['luminance_ratio']:.4f}, relative RMSE "
@@ -193,11 +227,146 @@ def _save_png_as_blender_shows_it(bpy, scene, png, ov):
         img.save_render(filepath=str(tmp), scene=scene)
     vs = scene.view_settings
     return vs.view_transform + (f", look {vs.look}" if vs.look not in ("", "None") else "")
+def parse_frames(text):
+    """The frames of ``text``: ``N``, ``A-B`` (inclusive) or a comma-separated list of both, in order
+    and without repeats; HeadlessError naming the problem otherwise."""
+    frames = []
+    for part in str(text).replace(" ", "").split(","):
+        m = re.fullmatch(r"(-?\d+)(?:-(-?\d+))?", part)
+        if m is None:
+            raise HeadlessError(f"--frames: expected N, A-B or a list of them, got {text!r}")
+        a = int(m.group(1))
+        b = int(m.group(2)) if m.group(2) is not None else a
+        if b < a:
+            raise HeadlessError(f"--frames: {part} ends before it starts")
+        frames += [f for f in range(a, b + 1) if f not in frames]
+    return frames
+
+
+def frame_path(out, frame):
+    """The EXR of ``frame``: the run of '#' in ``out``'s name replaced by the frame number,
+    zero-padded to its length, or ``_NNNN`` added before the suffix when there is none."""
+    out = Path(out)
+    if out.suffix.lower() != ".exr":
+        raise HeadlessError(f"--out: expected a .exr file name, got {out}")
+    m = re.search(r"#+", out.name)
+    if m is None:
+        return out.with_name(f"{out.stem}_{frame:04d}{out.suffix}")
+    return out.with_name(out.name[:m.start()] + f"{frame:0{len(m.group(0))}d}" + out.name[m.end():])
+
+
+def render_frame(blend, frame, out, spp=None, stream=None):
+    """Render one frame to ``out`` atomically: to a temporary name in the same folder, then
+    moved into place (the PNG first, the EXR last), so an existing EXR is a whole frame.
+    Missing images or libraries fail the frame, naming the file. Returns the summary."""
+    out = Path(out).absolute()
+    tmp = out.with_name(f".{out.stem}.{uuid.uuid4().hex[:8]}.partial.exr")
+    try:
+        summary = render_blend(blend, tmp, spp=spp, stream=stream, frame=frame, require_files=True)
+        os.replace(tmp.with_suffix(".png"), out.with_suffix(".png"))
+        os.replace(tmp, out)
+    finally:
+        for p in (tmp, tmp.with_suffix(".png")):
+            p.unlink(missing_ok=True)
+    summary.update(exr=str(out), png=str(out.with_suffix(".png")), frame=int(frame))
+    return summary
+
+
+def frame_main(argv):
+    """A farm task's process: ``BLEND FRAME OUT [SPP]``; prints the summary as JSON, or one error line."""
+    blend, frame, out = argv[0], int(argv[1]), argv[2]
+    spp = int(argv[3]) if len(argv) > 3 and argv[3] else None
+    try:
+        summary = render_frame(blend, frame, out, spp=spp)
+    except HeadlessError as e:
+        sys.stderr.write(f"spectral-gi: error: {e}\n")
+        return 1
+    except RuntimeError as e:
+        sys.stderr.write(f"spectral-gi: error: {one_line(e)}\n")
+        return 1
+    print(json.dumps(summary))
+    return 0
+
+
+def frame_task(blend, frame, out, spp):
+    """Runs on a farm worker: one frame in its own Python process (Blender as a module runs in
+    a process's main thread, one scene at a time); HeadlessError with its one-line error."""
+    package = __name__.rsplit(".addon.", 1)[0]
+    code = f"import sys; from {package}.addon.headless import frame_main; sys.exit(frame_main(sys.argv[1:]))"
+    proc = subprocess.run([sys.executable, "-c", code, str(blend), str(frame), str(out), str(spp or "")],
+                          capture_output=True, text=True)
+    if proc.returncode != 0:
+        lines = [ln for ln in proc.stderr.splitlines() if ln.startswith("spectral-gi: error:")]
+        text = lines[-1].removeprefix("spectral-gi: error: ") if lines else \
+            one_line(proc.stderr[-500:]) or f"exit status {proc.returncode}"
+        raise HeadlessError(f"frame {frame} on {socket.gethostname()}: {text}")
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+def render_frames(blend, out, frames, spp=None, scheduler=None, stream=None):
+    """Render ``frames`` of ``blend`` to ``frame_path(out, frame)``, skipping the frames whose
+    EXR exists (a rerun renders what is missing). scheduler: None (here, one after another),
+    or a Dask scheduler address / ``local:N`` (one task per frame; every machine must see
+    the .blend, its files and the output folder at the same paths). Returns the summaries of
+    the frames rendered, in frame order."""
+    stream = stream or sys.stderr
+
+    def say(text):
+        stream.write(f"{text}\n")
+        stream.flush()
+
+    blend = check_blend_file(blend).absolute()
+    paths = {f: frame_path(Path(out).absolute(), f) for f in frames}
+    todo = [f for f in frames if not paths[f].is_file()]
+    if len(todo) < len(frames):
+        say(f"{len(frames) - len(todo)} of {len(frames)} frames already written, skipped")
+    if todo:
+        paths[todo[0]].parent.mkdir(parents=True, exist_ok=True)
+    if scheduler is None:
+        done = []
+        for f in todo:
+            done.append(render_frame(blend, f, paths[f], spp=spp, stream=stream))
+        return done
+    from ..core import Farm, FarmError
+
+    results = {}
+    with Farm(scheduler) as farm:
+        import distributed
+
+        futures = {farm.client.submit(frame_task, str(blend), f, str(paths[f]), spp, pure=False,
+                                      key=f"spectral-gi-frame-{f}-{uuid.uuid4().hex[:8]}"): f for f in todo}
+        try:
+            for fut in distributed.as_completed(futures):
+                f = futures[fut]
+                if fut.status == "error":
+                    exc = fut.exception()
+                    raise HeadlessError(one_line(exc)) if isinstance(exc, (HeadlessError, FarmError)) else \
+                        HeadlessError(f"frame {f}: {type(exc).__name__}: {one_line(exc)}")
+                results[f] = fut.result()
+                say(f"frame {f}: wrote {paths[f]} ({len(results)} of {len(todo)})")
+        finally:
+            farm.client.cancel([fu for fu in futures if not fu.done()])
+    return [results[f] for f in todo]
 
 
 def main(args):
-    """Entry point for core/cli.py's ``render-blend`` (args: blend, out, spp, compare_cycles, json)."""
+    """Entry point for core/cli.py's ``render-blend`` (args: blend, out, spp, compare_cycles, json,
+    frames, scheduler)."""
     out = args.out or (Path(args.blend).with_suffix("").name + ".exr")
+    frames = getattr(args, "frames", None)
+    scheduler = getattr(args, "scheduler", None)
+    if frames is not None or scheduler is not None:
+        if args.compare_cycles:
+            raise HeadlessError("--compare-cycles compares one still render: not with --frames or --scheduler")
+        if frames is None:
+            raise HeadlessError("--scheduler: render-blend spreads frames over a farm; give --frames")
+        done = render_frames(args.blend, out, parse_frames(frames), spp=args.spp, scheduler=scheduler)
+        if args.json:
+            from .operators.compare import write_json_atomic
+
+            write_json_atomic(str(args.json), {"frames": done})
+        print(json.dumps({"frames": [{k: d[k] for k in ("frame", "exr", "samples")} for d in done]}))
+        return 0
     summary = render_blend(args.blend, out, spp=args.spp, compare_cycles=args.compare_cycles, json_path=args.json)
     print(json.dumps({k: summary[k] for k in ("exr", "png", "samples")}))
     return 0

@@ -7,6 +7,7 @@ from . import lux  # lighting analysis: calculation surfaces, grids, reports, fa
 from .io.atomic import atomic_path
 from .io.atomic import write_text as write_text_atomic
 from .film import Developed, Film, develop
+from .farm import Farm, FarmError  # render farms on Dask (imported when used)
 from .io.exr import read_channels as read_exr
 from .io.exr import write_render as write_exr
 from .io.png import write_png
@@ -46,6 +47,7 @@ from .scene import Profile
 from .integrators.sensors import has_sensors, illuminance_image, illuminance_stats, render_illuminance
 
 __all__ = [
+    "Farm", "FarmError",
     "constants", "lux", "atomic_path", "write_text_atomic",
     "Scene", "Mesh", "Material", "Light", "Camera", "World", "RenderSettings", "SpectrumTable", "Medium",
     "SceneError", "validate", "load_scene", "save_scene",

@@ -97,27 +97,161 @@ def XYZ_to_output(XYZ, colour_space="rec709", observer="1931"):
 
 AOV_CHANNELS = 9  # albedo XYZ, normal xyz, depth sum, number of samples that hit, transparent samples
 FILM_FORMAT = "spectral-gi-film"
-FILM_VERSION = 2  # 2: the AOVs gained the transparent-sample count (version 1 films load as opaque)
+# 2: the AOVs gained the transparent-sample count (version 1 films load as opaque); 3: the
+# samples of an incomplete chunk are stored apart (``tail_*``)
+FILM_VERSION = 3
+# Samples per chunk: the image is the sum, in order, of the sums of chunks of CHUNK_SPP samples
+# (see :class:`Film`). Part of the definition of an image: changing it changes the last bits.
+CHUNK_SPP = 16
+
+
+def chunk_spans(s0, s1, chunk=CHUNK_SPP):
+    """The pieces [a, b) of the samples [s0, s1), cut at the multiples of ``chunk``."""
+    out = []
+    a = int(s0)
+    while a < s1:
+        b = min(int(s1), (a // chunk + 1) * chunk)
+        out.append((a, b))
+        a = b
+    return out
 
 
 class Film:
     """Per-pixel sums. ``spectral_bins`` > 0 also keeps the spectral radiance in that many
     equal bins of [LAMBDA_MIN, LAMBDA_MAX] (for spectral OpenEXR output). ``aov`` holds
-    the sums of the albedo, normal and depth passes (see :func:`develop`)."""
+    the sums of the albedo, normal and depth passes (see :func:`develop`).
+
+    The order of the additions: floating-point addition is not associative, so the image
+    is defined by the order its samples are summed in. The samples of a pixel are grouped
+    in chunks of CHUNK_SPP consecutive sample indices (aligned on multiples of CHUNK_SPP);
+    the samples of a chunk are summed one by one from zero, and the chunk sums are added
+    to the image in chunk order (the first one taken as it is). Renders on one machine and
+    on a farm (one task per chunk, merged in chunk order) give the same bits, whatever the
+    pass lengths, threads or workers. While the last chunk is incomplete the film holds it
+    apart (``open_chunk``) from the whole chunks before it; ``sums``, ``spectral`` and
+    ``aov`` are then the two added, formed when first read after a change (memory: up to
+    three copies of the arrays mid-chunk)."""
 
     def __init__(self, width, height, spectral_bins=0, observer="1931"):
         self.width = int(width)
         self.height = int(height)
         self.observer = check_observer(observer)
-        self.sums = np.zeros((self.height, self.width, film_channels(self.observer)), dtype=np.float64)
         n = int(spectral_bins)
-        self.spectral = np.zeros((self.height, self.width, n) if n > 0 else (1, 1, 0), dtype=np.float64)
-        self.aov = np.zeros((self.height, self.width, AOV_CHANNELS), dtype=np.float64)
+        # the whole chunks: samples [0, spp - tail_spp)
+        self._sums = np.zeros((self.height, self.width, film_channels(self.observer)), dtype=np.float64)
+        self._spectral = np.zeros((self.height, self.width, n) if n > 0 else (1, 1, 0), dtype=np.float64)
+        self._aov = np.zeros((self.height, self.width, AOV_CHANNELS), dtype=np.float64)
+        self._tail = None  # a Film: the incomplete chunk's samples [spp - tail_spp, spp), summed from zero
+        self.tail_spp = 0
+        self._view = None  # (sums, spectral, aov) of the whole chunks plus the tail, once formed
+        self._spare = None  # a tail's arrays kept for the next chunk
         self.spp = 0
+
+    # ------------------------------------------------------------------ the image's arrays
+
+    def _image(self):
+        if self._tail is None:
+            return self._sums, self._spectral, self._aov
+        t = self._tail
+        if self.spp == self.tail_spp:  # no whole chunk yet: the chunk's sums are the image
+            return t._sums, t._spectral, t._aov
+        if self._view is None:
+            self._view = (np.add(self._sums, t._sums), np.add(self._spectral, t._spectral),
+                          np.add(self._aov, t._aov))
+        return self._view
+
+    def _plain(self):
+        """Make the film one set of arrays (its image), dropping the chunk structure."""
+        if self._tail is not None:
+            self._sums, self._spectral, self._aov = (a.copy() for a in self._image())
+            self._tail = self._view = None
+            self.tail_spp = 0
+
+    @property
+    def sums(self):
+        return self._image()[0]
+
+    @sums.setter
+    def sums(self, value):
+        self._plain()
+        self._sums = value
+
+    @property
+    def spectral(self):
+        return self._image()[1]
+
+    @spectral.setter
+    def spectral(self, value):
+        self._plain()
+        self._spectral = value
+
+    @property
+    def aov(self):
+        return self._image()[2]
+
+    @aov.setter
+    def aov(self, value):
+        self._plain()
+        self._aov = value
+
+    # ------------------------------------------------------------------ accumulation
+
+    @property
+    def chunk_start(self):
+        """The first sample of the incomplete chunk (spp at a chunk boundary)."""
+        return self.spp - self.tail_spp
+
+    def _blank(self):
+        f = Film(self.width, self.height, self.spectral_bins, observer=self.observer)
+        return f
+
+    def open_chunk(self):
+        """The film that the next samples [spp, ...) of the current chunk are added to, from
+        the kernel: the incomplete chunk, or a zero film at a chunk boundary. Hand it back to
+        :meth:`merge_chunk` once samples were added."""
+        self._view = None
+        if self._tail is None:
+            spare, self._spare = self._spare, None
+            if spare is None:
+                spare = self._blank()
+            else:
+                for a in (spare._sums, spare._spectral, spare._aov):
+                    a.fill(0.0)
+            spare.spp = 0
+            return spare
+        return self._tail
+
+    def merge_chunk(self, part, end):
+        """Take ``part``, the sums from zero of the samples [chunk_start, end) of one chunk
+        (from :meth:`open_chunk`, or a farm task's result), as this film's current chunk; a
+        chunk that is complete (end on a multiple of CHUNK_SPP) is added to the whole chunks."""
+        end = int(end)
+        start = self.chunk_start
+        if not start < end <= (start // CHUNK_SPP + 1) * CHUNK_SPP:
+            raise ValueError(f"film: samples [{start}, {end}) are not part of one chunk")
+        if part.width != self.width or part.height != self.height or part._sums.shape != self._sums.shape \
+                or part._spectral.shape != self._spectral.shape:
+            raise ValueError("film: the chunk's arrays do not match the film's")
+        self._view = None
+        if end % CHUNK_SPP:
+            self._tail, self.tail_spp, self.spp = part, end - start, end
+            return
+        if start == 0:  # the first chunk is the image
+            self._sums, self._spectral, self._aov = part._sums, part._spectral, part._aov
+        else:
+            np.add(self._sums, part._sums, out=self._sums)
+            np.add(self._spectral, part._spectral, out=self._spectral)
+            np.add(self._aov, part._aov, out=self._aov)
+            self._spare = part
+        self._tail = None
+        self.tail_spp = 0
+        self.spp = end
+
+    # ------------------------------------------------------------------
 
     @property
     def spectral_bins(self):
-        return self.spectral.shape[2]
+        return self._spectral.shape[2]
 
     def bin_centres(self):
         """Centre wavelength (nm) of each spectral bin."""
@@ -132,10 +266,13 @@ class Film:
 
     def copy(self):
         f = Film(self.width, self.height, observer=self.observer)
-        f.sums = self.sums.copy()
-        f.spectral = self.spectral.copy()
-        f.aov = self.aov.copy()
+        f._sums = self._sums.copy()
+        f._spectral = self._spectral.copy()
+        f._aov = self._aov.copy()
         f.spp = self.spp
+        if self._tail is not None:
+            f._tail = self._tail.copy()
+            f.tail_spp = self.tail_spp
         return f
 
     def develop(self, white_luminance=C.K_M, white_balance=None, colour_space="rec709"):
@@ -143,14 +280,19 @@ class Film:
                        observer=self.observer)
 
     def save(self, path):
-        """Write the film (a checkpoint to resume from) as one .npz, atomically."""
+        """Write the film (a checkpoint to resume from) as one .npz, atomically: ``sums``,
+        ``spectral`` and ``aov`` hold the whole chunks, ``tail_*`` an incomplete chunk's sums."""
         import io
         from pathlib import Path
 
         buf = io.BytesIO()
+        tail = {}
+        if self._tail is not None:
+            tail = {"tail_spp": np.array(self.tail_spp, np.int64), "tail_sums": self._tail._sums,
+                    "tail_spectral": self._tail._spectral, "tail_aov": self._tail._aov}
         np.savez_compressed(buf, format=np.array(FILM_FORMAT), version=np.array(FILM_VERSION),
-                            spp=np.array(self.spp, np.int64), observer=np.array(self.observer), sums=self.sums,
-                            spectral=self.spectral, aov=self.aov)
+                            spp=np.array(self.spp, np.int64), observer=np.array(self.observer), sums=self._sums,
+                            spectral=self._spectral, aov=self._aov, **tail)
         write_bytes(Path(path), buf.getvalue())
         return Path(path)
 
@@ -163,8 +305,8 @@ class Film:
         except Exception as e:  # OSError, zipfile.BadZipFile, ValueError
             raise ValueError(f"film {path}: cannot read ({e})") from None
         version = int(data.get("version", -1))
-        if str(data.get("format", "")) != FILM_FORMAT or version not in (1, FILM_VERSION):
-            raise ValueError(f"film {path}: not a spectral-gi film of version 1 or {FILM_VERSION}")
+        if str(data.get("format", "")) != FILM_FORMAT or version not in (1, 2, FILM_VERSION):
+            raise ValueError(f"film {path}: not a spectral-gi film of version 1 to {FILM_VERSION}")
         sums, spectral, aov = data["sums"], data["spectral"], data["aov"]
         if version == 1 and aov.ndim == 3 and aov.shape[2] == AOV_CHANNELS - 1:
             aov = np.concatenate([aov, np.zeros(aov.shape[:2] + (1,))], axis=2)  # no transparent samples
@@ -176,10 +318,20 @@ class Film:
                 aov.shape != sums.shape[:2] + (AOV_CHANNELS,):
             raise ValueError(f"film {path}: unexpected array shapes {sums.shape}, {aov.shape}")
         f = cls(sums.shape[1], sums.shape[0], observer=observer)
-        f.sums = np.ascontiguousarray(sums, np.float64)
-        f.spectral = np.ascontiguousarray(spectral, np.float64)
-        f.aov = np.ascontiguousarray(aov, np.float64)
+        f._sums = np.ascontiguousarray(sums, np.float64)
+        f._spectral = np.ascontiguousarray(spectral, np.float64)
+        f._aov = np.ascontiguousarray(aov, np.float64)
         f.spp = int(data["spp"])
+        if "tail_sums" in data:
+            t = cls(f.width, f.height, observer=observer)
+            t._sums = np.ascontiguousarray(data["tail_sums"], np.float64)
+            t._spectral = np.ascontiguousarray(data["tail_spectral"], np.float64)
+            t._aov = np.ascontiguousarray(data["tail_aov"], np.float64)
+            n = int(data["tail_spp"])
+            if t._sums.shape != f._sums.shape or t._spectral.shape != f._spectral.shape or \
+                    t._aov.shape != f._aov.shape or not 0 < n <= min(f.spp, CHUNK_SPP):
+                raise ValueError(f"film {path}: its incomplete chunk does not match the film")
+            f._tail, f.tail_spp = t, n
         return f
 
 

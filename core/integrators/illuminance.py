@@ -414,10 +414,21 @@ def _run_batch(prep, st, pts, mode, vcmf, idx, span, pool, n_threads, chunk):
     return vals.reshape(idx.size, nb)
 
 
-def _measure(scene, mode, pts, q, spp, rel_error, max_depth, seed, threads, should_cancel, progress, chunk=None):
+def _measure(scene, mode, pts, q, spp, rel_error, max_depth, seed, threads, should_cancel, progress, chunk=None,
+             subset=None, client=None):
     """The estimator's loop: batches of samples for the points not yet done. Returns
-    (values, standard errors, samples used)."""
+    (values, standard errors, samples used). subset: indices of the points to measure (the
+    others are left with no samples); a point's value is the same measured alone, in any
+    subset or with all (its random numbers are keyed by its index, its sums are its own).
+    client: a dask.distributed Client (or scheduler address, "local:N"): the points are
+    split across its workers (core/farm), with the same values."""
     from .render import prepare, thread_count
+
+    if client is not None:
+        from ..farm import measure_farm
+
+        return measure_farm(scene, client, mode, pts, q, measure=_measure, spp=spp, rel_error=rel_error,
+                            max_depth=max_depth, seed=seed, should_cancel=should_cancel, progress=progress)
 
     if isinstance(spp, bool) or int(spp) != spp or int(spp) < 1:
         raise SceneError(f"spp: expected a positive integer, got {spp!r}")
@@ -437,6 +448,10 @@ def _measure(scene, mode, pts, q, spp, rel_error, max_depth, seed, threads, shou
     s2 = np.zeros(n)
     cnt = np.zeros(n, np.int64)
     active = np.ones(n, bool)
+    if subset is not None:
+        active[:] = False
+        active[np.asarray(subset, np.int64)] = True
+    n_measured = int(active.sum())
     n_threads = thread_count(threads)
     pool = ThreadPoolExecutor(max_workers=n_threads, thread_name_prefix="spectral-gi-lux") if n_threads > 1 else None
     try:
@@ -453,7 +468,7 @@ def _measure(scene, mode, pts, q, spp, rel_error, max_depth, seed, threads, shou
                 done = (se <= float(rel_error) * np.abs(mean)) | ((mean == 0.0) & (se == 0.0))
                 active[idx[done]] = False
             if progress is not None:
-                progress(int(np.where(active, cnt, spp).sum()), n * spp)
+                progress(int(np.where(active, cnt, spp).sum()) - (n - n_measured) * spp, n_measured * spp)
     finally:
         if pool is not None:
             pool.shutdown(wait=True)
@@ -478,13 +493,15 @@ _DOC_ARGS = """
     most bounces after the first (None: no limit, Russian roulette ends paths); seed: the RNG
     seed (None: the scene's); threads: worker threads (None: one per core);
     should_cancel(): checked between batches (True: stop, the result holds what was done);
-    progress(done, total): after each batch, in samples (a stopped point counts as done).
+    progress(done, total): after each batch, in samples (a stopped point counts as done);
+    client: a dask.distributed Client, scheduler address or "local:N" to split the points
+    across a farm's workers (core/farm; the same values).
     Returns (values (N,), standard errors (N,), samples used (N,) int64). Bit-identical for
     any number of threads."""
 
 
 def illuminance(scene, points, normals, *, spp=256, rel_error=None, max_depth=None, seed=None, threads=None,
-                should_cancel=None, progress=None, _chunk=None):
+                should_cancel=None, progress=None, client=None, _chunk=None):
     """Illuminance (lux) at ``points`` (N, 3), m, on the planes with ``normals`` (N, 3;
     normalised here), estimated at the points (see the module text)."""
     pts = _points("points", points)
@@ -492,11 +509,11 @@ def illuminance(scene, points, normals, *, spp=256, rel_error=None, max_depth=No
     if nrm.shape[0] != pts.shape[0]:
         raise SceneError(f"normals: {nrm.shape[0]} normals for {pts.shape[0]} points")
     return _measure(scene, MODE_ILLUMINANCE, pts, nrm, spp, rel_error, max_depth, seed, threads, should_cancel,
-                    progress, _chunk)
+                    progress, _chunk, client=client)
 
 
 def luminance(scene, points, directions, *, spp=256, rel_error=None, max_depth=None, seed=None, threads=None,
-              should_cancel=None, progress=None):
+              should_cancel=None, progress=None, client=None):
     """Luminance (cd/m²) seen from ``points`` (N, 3) looking along ``directions`` (N, 3):
     the radiance arriving at each point from that direction (one camera-like path per
     sample, lights seen whatever their camera visibility)."""
@@ -505,7 +522,7 @@ def luminance(scene, points, directions, *, spp=256, rel_error=None, max_depth=N
     if d.shape[0] != pts.shape[0]:
         raise SceneError(f"directions: {d.shape[0]} directions for {pts.shape[0]} points")
     return _measure(scene, MODE_LUMINANCE, pts, d, spp, rel_error, max_depth, seed, threads, should_cancel,
-                    progress)
+                    progress, client=client)
 
 
 def vertical_illuminance(scene, points, facing, **kw):
@@ -522,7 +539,7 @@ def cylindrical_illuminance(scene, points, **kw):
     q[:, 0] = 1.0
     return _measure(scene, MODE_CYLINDRICAL, pts, q, kw.pop("spp", 256), kw.pop("rel_error", None),
                     kw.pop("max_depth", None), kw.pop("seed", None), kw.pop("threads", None),
-                    kw.pop("should_cancel", None), kw.pop("progress", None))
+                    kw.pop("should_cancel", None), kw.pop("progress", None), client=kw.pop("client", None))
 
 
 def semicylindrical_illuminance(scene, points, facing, **kw):
@@ -532,7 +549,7 @@ def semicylindrical_illuminance(scene, points, facing, **kw):
     q = _horizontal("facing", _points("facing", facing))
     return _measure(scene, MODE_SEMICYLINDRICAL, pts, q, kw.pop("spp", 256), kw.pop("rel_error", None),
                     kw.pop("max_depth", None), kw.pop("seed", None), kw.pop("threads", None),
-                    kw.pop("should_cancel", None), kw.pop("progress", None))
+                    kw.pop("should_cancel", None), kw.pop("progress", None), client=kw.pop("client", None))
 
 
 for _f in (illuminance, luminance, vertical_illuminance, cylindrical_illuminance, semicylindrical_illuminance):

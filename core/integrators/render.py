@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import gc
 import os
+import sys
 import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
@@ -34,6 +35,7 @@ from .warmup import kernels_compiled
 
 # Target wall time of one pass, so progress and cancel stay live (architecture: 0.1–0.5 s).
 PASS_SECONDS = 0.3
+CHECKPOINT_SECONDS = 10.0  # a local render's checkpoint file is rewritten this often (and at the end)
 
 
 @dataclass
@@ -103,8 +105,12 @@ def run_pass(prep: Prepared, film: Film, s0: int, s1: int, pool=None):
     """Add samples [s0, s1) of every pixel to ``film``.
 
     With a ``concurrent.futures`` ``pool``, blocks of rows run on its threads (the kernel
-    releases the GIL); without one, on the calling thread. The result is the same.
+    releases the GIL); without one, on the calling thread. The result is the same. The
+    samples are summed one by one into the film's arrays: a render adds its samples with
+    :func:`add_samples`, chunk by chunk.
     """
+    if film.tail_spp:
+        raise ValueError("run_pass: the film holds an incomplete chunk apart; add samples with add_samples")
     h = film.height
     if pool is None:
         _rows(prep, film, 0, h, s0, s1)
@@ -115,6 +121,20 @@ def run_pass(prep: Prepared, film: Film, s0: int, s1: int, pool=None):
         for f in futures:
             f.result()
     film.spp = s1
+
+
+def add_samples(prep: Prepared, film: Film, s0: int, s1: int, pool=None):
+    """Add samples [s0, s1) (s0 = film.spp) to ``film`` in the film's order of additions
+    (core/film ``Film``: each chunk's samples summed from zero, the chunks added in order),
+    so the image is the same for any split of the samples into passes or farm tasks."""
+    from ..film import chunk_spans
+
+    if s0 != film.spp:
+        raise ValueError(f"add_samples: the film has {film.spp} spp, the samples start at {s0}")
+    for a, b in chunk_spans(s0, s1):
+        part = film.open_chunk()
+        run_pass(prep, part, a, b, pool)
+        film.merge_chunk(part, b)
 
 
 @dataclass
@@ -147,8 +167,26 @@ def relative_error(film):
     return se / total
 
 
+def start_film(scene, resume=None, spectral_bins=0):
+    """The film a render of ``scene`` starts from: a zero film, or a copy of ``resume``
+    once it is checked against the scene (SceneError naming the mismatch)."""
+    cam = scene.camera
+    if resume is None:
+        return Film(cam.width, cam.height, spectral_bins, observer=scene.settings.observer)
+    if (resume.width, resume.height) != (cam.width, cam.height):
+        raise SceneError(f"resume: the film is {resume.width}x{resume.height}, the scene renders "
+                         f"{cam.width}x{cam.height}")
+    if getattr(resume, "observer", "1931") != scene.settings.observer:
+        raise SceneError(f"resume: the film was rendered with the CIE {resume.observer} observer, the "
+                         f"scene asks for {scene.settings.observer}")
+    if resume.spp > scene.settings.spp:
+        raise SceneError(f"resume: the film already has {resume.spp} spp, more than settings.spp = "
+                         f"{scene.settings.spp}")
+    return resume.copy()
+
+
 def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_pass=None, status=None,
-           spectral_bins=0, resume=None, measure=False):
+           spectral_bins=0, resume=None, measure=False, client=None, batch_spp=None, checkpoint=None):
     """Render ``scene`` to a :class:`Film`.
 
     progress(done_spp, total_spp, samples_per_second) after each pass;
@@ -164,20 +202,33 @@ def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_
     error of the mean luminance) stop the render early; RenderStats.stop_reason says why.
     measure=True renders the illuminance of the scene's sensor meshes instead (see
     core/sensors.py, which turns the film into lux).
+    client: a dask.distributed Client (or a scheduler address, or "local:N"): the samples
+    are rendered on its workers, ``batch_spp`` samples a task (a multiple of CHUNK_SPP;
+    None: one chunk), and merged in order into the same bits as here (core/farm);
+    checkpoint: a file the film is saved to (Film.save) after each batch on a farm, every
+    CHECKPOINT_SECONDS here, and at the end (pass it back as ``resume`` to go on).
     Returns (film, RenderStats).
     """
+    if client is not None:
+        from ..farm import render_farm
+
+        return render_farm(scene, client, engine=sys.modules[__name__], progress=progress,
+                           should_cancel=should_cancel, on_pass=on_pass,
+                           status=status, spectral_bins=spectral_bins, resume=resume, measure=measure,
+                           batch_spp=batch_spp, checkpoint=checkpoint)
     say = status or (lambda text: None)
     n_threads = thread_count(threads)
     # a cold cache: a second process compiles part of the kernel's helpers meanwhile
     helper = warmup.start()
     try:
         return _render(scene, n_threads, say, helper, progress, should_cancel, on_pass, spectral_bins, resume,
-                       measure)
+                       measure, checkpoint)
     finally:
         warmup.finish(helper)
 
 
-def _render(scene, n_threads, say, helper, progress, should_cancel, on_pass, spectral_bins, resume, measure):
+def _render(scene, n_threads, say, helper, progress, should_cancel, on_pass, spectral_bins, resume, measure,
+            checkpoint=None):
     t_start = time.perf_counter()
     say("Preparing scene" if helper is None else "Compiling kernels (first run only): preparing scene")
     cold = not kernels_compiled()
@@ -190,20 +241,7 @@ def _render(scene, n_threads, say, helper, progress, should_cancel, on_pass, spe
         gc.disable()
     try:
         prep = prepare(scene, measure=measure)
-        cam = scene.camera
-        if resume is not None:
-            if (resume.width, resume.height) != (cam.width, cam.height):
-                raise SceneError(f"resume: the film is {resume.width}x{resume.height}, the scene renders "
-                                 f"{cam.width}x{cam.height}")
-            if getattr(resume, "observer", "1931") != scene.settings.observer:
-                raise SceneError(f"resume: the film was rendered with the CIE {resume.observer} observer, the "
-                                 f"scene asks for {scene.settings.observer}")
-            if resume.spp > scene.settings.spp:
-                raise SceneError(f"resume: the film already has {resume.spp} spp, more than settings.spp = "
-                                 f"{scene.settings.spp}")
-            film = resume.copy()
-        else:
-            film = Film(cam.width, cam.height, spectral_bins, observer=scene.settings.observer)
+        film = start_film(scene, resume, spectral_bins)
         total = int(scene.settings.spp)
         if cold:
             # numba's cache on disk holds the kernels unless this start had to compile them
@@ -223,17 +261,21 @@ def _render(scene, n_threads, say, helper, progress, should_cancel, on_pass, spe
     say("Rendering")
     pool = ThreadPoolExecutor(max_workers=n_threads, thread_name_prefix="spectral-gi") if n_threads > 1 else None
     try:
-        return _progressive(prep, film, pool, total, progress, should_cancel, on_pass, t_compile)
+        film, stats = _progressive(prep, film, pool, total, progress, should_cancel, on_pass, t_compile, checkpoint)
+        if checkpoint is not None:
+            film.save(checkpoint)
+        return film, stats
     finally:
         if pool is not None:
             pool.shutdown(wait=True)
 
 
-def _progressive(prep, film, pool, total, progress, should_cancel, on_pass, t_compile):
+def _progressive(prep, film, pool, total, progress, should_cancel, on_pass, t_compile, checkpoint=None):
     cam = prep.scene.camera
     st = prep.scene.settings
     t0 = time.perf_counter()
     start = done = int(film.spp)
+    saved = t0
     step = 1
     reason = "spp"
     while done < total:
@@ -247,7 +289,7 @@ def _progressive(prep, film, pool, total, progress, should_cancel, on_pass, t_co
                 reason = "time_limit"
                 break
         tp = time.perf_counter()
-        run_pass(prep, film, done, done + n, pool)
+        add_samples(prep, film, done, done + n, pool)
         dt = time.perf_counter() - tp
         done += n
         elapsed = time.perf_counter() - t0
@@ -256,6 +298,9 @@ def _progressive(prep, film, pool, total, progress, should_cancel, on_pass, t_co
             progress(done, total, rate)
         if on_pass is not None:
             on_pass(film)
+        if checkpoint is not None and time.perf_counter() - saved >= CHECKPOINT_SECONDS:
+            film.save(checkpoint)
+            saved = time.perf_counter()
         if done >= total:
             break
         if st.time_limit > 0 and elapsed >= st.time_limit:

@@ -306,3 +306,45 @@ def test_office_one_click_report(ext, bpy, tmp_path, monkeypatch):
                                                              "Work_Plane_lux_plan.png"]
     assert json.loads(again.with_suffix(".json").read_text())["statistics"]["mean"] == pytest.approx(mean, rel=1e-6)
     assert _png_size(again.with_name("Work_Plane_lux_plan.png")) == tuple(s.plan_image.size)
+
+
+def test_panels_show_the_result_and_the_progress(ext, bpy):
+    from unittest import mock
+
+    job_mod = importlib.import_module(ext.module.__name__ + ".addon.lux_job")
+    plane = open_floor(ext, bpy)
+    bpy.context.view_layer.objects.active = plane
+    assert bpy.ops.spectral_gi.lux_calculate() == {"FINISHED"}
+    labels, props, ops_used = [], [], []
+
+    def layout():
+        lay = mock.MagicMock()
+        for name in ("row", "column", "box", "split", "grid_flow"):
+            getattr(lay, name).return_value = lay
+
+        def prop(owner, name, **kw):
+            assert hasattr(owner, name), (owner, name)
+            props.append(name)
+        lay.prop.side_effect = prop
+        lay.label.side_effect = lambda text="", **kw: labels.append(text)
+        lay.operator.side_effect = lambda idname, **kw: ops_used.append(idname) or mock.MagicMock()
+        return lay
+
+    ctx = mock.MagicMock(object=plane, scene=bpy.context.scene)
+    bpy.types.SPECTRALGI_PT_lux.draw(mock.MagicMock(layout=layout()), ctx)
+    s = plane.spectral_gi_lux
+    assert f"{s.mean:.4g} lx" in labels and "4 × 4" in labels and "U0 = Emin/Ē" in labels
+    assert {"enabled", "samples", "maintenance_factor", "spectral_gi_workplane_height", "spectral_gi_use_band",
+            "spectral_gi_report_dir"} <= set(props)
+    assert {"spectral_gi.lux_calculate", "spectral_gi.lux_report", "spectral_gi.lux_show_image"} <= set(ops_used)
+    labels.clear()
+    bpy.types.SPECTRALGI_PT_lux_view3d.draw(mock.MagicMock(layout=layout()), bpy.context)
+    assert "Target" in labels and any(t.startswith(f"Ē {s.mean:.4g} lx") for t in labels)
+    job_mod.STATE.begin(100)  # as while a calculation runs
+    job_mod.STATE.done = 25
+    try:
+        labels.clear()
+        bpy.types.SPECTRALGI_PT_lux_view3d.draw(mock.MagicMock(layout=layout()), bpy.context)
+        assert any("25/100 samples" in t and "Esc to cancel" in t for t in labels)
+    finally:
+        job_mod.STATE.running = False

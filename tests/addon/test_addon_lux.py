@@ -348,3 +348,62 @@ def test_panels_show_the_result_and_the_progress(ext, bpy):
         assert any("25/100 samples" in t and "Esc to cancel" in t for t in labels)
     finally:
         job_mod.STATE.running = False
+
+
+def test_the_modal_operator_polls_the_worker_and_esc_cancels(ext, bpy, monkeypatch):
+    """The operator's modal steps (timer events while the worker thread runs, Esc), driven by hand: Blender
+    in the background sends no events."""
+    import threading
+    import time
+    from types import SimpleNamespace
+
+    ops = lux_ops(ext)
+    job_mod = importlib.import_module(ext.module.__name__ + ".addon.lux_job")
+    plane = open_floor(ext, bpy)
+    plane.spectral_gi_lux.samples = 64
+    bpy.context.view_layer.objects.active = plane
+    cls = bpy.types.SPECTRALGI_OT_lux_calculate
+    reports = []
+
+    class Modal:  # the operator's own methods on a stand-in instance
+        modal, _cleanup, _conclude, _finish = cls.modal, cls._cleanup, cls._conclude, cls._finish
+
+        def __init__(self, job):
+            self._job, self._timer = job, None
+
+        def report(self, kind, text):
+            reports.append((set(kind), text))
+
+    timer = SimpleNamespace(type="TIMER", value="NOTHING")
+    esc = SimpleNamespace(type="ESC", value="PRESS")
+
+    def drive(op, before_each=None):
+        for _ in range(60000):
+            if before_each is not None:
+                before_each()
+            r = op.modal(bpy.context, timer)
+            if r != {"PASS_THROUGH"}:
+                return r
+            time.sleep(0.01)
+        raise AssertionError("the calculation did not finish")
+
+    job = ops.prepare_job(bpy.context, [plane])
+    job.start()
+    assert job.thread is not None and job_mod.busy() and not bpy.ops.spectral_gi.lux_report.poll()
+    assert drive(Modal(job)) == {"FINISHED"}
+    s = plane.spectral_gi_lux
+    assert s.valid and not job_mod.busy() and any("Ē" in text for _k, text in reports)
+    first = s.mean
+
+    # Esc while the worker waits after its first batch: nothing is stored
+    bpy.data.objects["Bulb"].data.spectral_gi.value = 2 * I_CD
+    go = threading.Event()
+    monkeypatch.setattr(job_mod.LuxJob, "on_progress", lambda self, done, total: go.wait(60))
+    job = ops.prepare_job(bpy.context, [plane])
+    job.start()
+    op = Modal(job)
+    assert op.modal(bpy.context, esc) == {"RUNNING_MODAL"} and job.cancel_requested
+    go.set()
+    assert drive(op) == {"CANCELLED"}
+    assert job.results == {} and s.mean == first and job_mod.STATE.phase == "Cancelled"
+    assert reports[-1][0] == {"WARNING"} and "earlier results are kept" in reports[-1][1]

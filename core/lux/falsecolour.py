@@ -233,8 +233,9 @@ def plan_image(surface, lux, vmin: float | None = None, vmax: float | None = Non
     """The false-colour plan of a calculation surface as an RGBA image (H, W, 4) float32, sRGB-encoded,
     row 0 at the top (pure NumPy, for Blender's Image Editor).
 
-    A grid is drawn cell by cell (square pixels, the longer side about ``size`` px), its outline in
-    dark grey, cells without a point transparent; points on mesh vertices or faces are drawn as
+    A grid is drawn cell by cell (square pixels, the longer side of the grid and its outline about
+    ``size`` px), the surface's outline (the band included) in dark grey, cells without a point and
+    the band transparent; points on mesh vertices or faces are drawn as
     squares of their area in the plane of the points (world X/Y for a horizontal surface). With
     ``legend``, a bar of the band colours (lowest at the bottom) stands at the right; its values
     are :func:`legend_levels` of the same range."""
@@ -250,21 +251,30 @@ def plan_image(surface, lux, vmin: float | None = None, vmax: float | None = Non
     if surface.is_grid:
         rows, cols = surface.grid_shape
         du, dv = surface.spacing
-        ppm = size / max(cols * du, rows * dv)  # pixels per metre
-        w, h = max(1, int(round(cols * du * ppm))), max(1, int(round(rows * dv * ppm)))
+        x0, x1, y0, y1 = 0.0, cols * du, 0.0, rows * dv  # the plane frame, metres from the grid's corner
+        if surface.outline is not None and len(surface.outline):  # the whole outline, band included
+            ol = surface.outline.reshape(-1, 2)
+            x0, y0 = min(x0, float(ol[:, 0].min())), min(y0, float(ol[:, 1].min()))
+            x1, y1 = max(x1, float(ol[:, 0].max())), max(y1, float(ol[:, 1].max()))
+        ppm = size / max(x1 - x0, y1 - y0)  # pixels per metre
+        w, h = max(1, int(round((x1 - x0) * ppm))), max(1, int(round((y1 - y0) * ppm)))
         img = surface.grid_image(e)
-        cell = np.zeros((rows, cols, 4), np.float32)
-        ok = np.isfinite(img)
-        cell[..., :3] = false_colour(img, vmin, vmax, steps, scale, colormap_name)
-        cell[..., 3] = ok
-        ci = np.minimum((np.arange(w) + 0.5) / ppm / du, cols - 1).astype(np.int64)
-        rj = np.minimum((np.arange(h) + 0.5) / ppm / dv, rows - 1).astype(np.int64)
-        plan = cell[rj[::-1]][:, ci]  # row 0 at the top: v decreasing downwards
+        cell = np.zeros((rows + 1, cols + 1, 4), np.float32)  # the extra row and column: outside, transparent
+        cell[:rows, :cols, :3] = false_colour(img, vmin, vmax, steps, scale, colormap_name)
+        cell[:rows, :cols, 3] = np.isfinite(img)
+        u = x0 + (np.arange(w) + 0.5) / ppm
+        v = y1 - (np.arange(h) + 0.5) / ppm  # row 0 at the top: v decreasing downwards
+        ci = np.floor(u / du).astype(np.int64)
+        rj = np.floor(v / dv).astype(np.int64)
+        ci[(ci < 0) | (ci >= cols)] = cols
+        rj[(rj < 0) | (rj >= rows)] = rows
+        plan = cell[rj][:, ci]
         if surface.outline is not None:
+            lim = [w - 1, h - 1]
             for a, b in surface.outline:
-                pa = np.array([a[0] * ppm, h - 1 - a[1] * ppm])
-                pb = np.array([b[0] * ppm, h - 1 - b[1] * ppm])
-                _paint_segment(plan, np.clip(pa, 0, [w - 1, h - 1]), np.clip(pb, 0, [w - 1, h - 1]), edge)
+                pa = np.array([(a[0] - x0) * ppm, (y1 - a[1]) * ppm - 0.5])
+                pb = np.array([(b[0] - x0) * ppm, (y1 - b[1]) * ppm - 0.5])
+                _paint_segment(plan, np.clip(pa, 0, lim), np.clip(pb, 0, lim), edge)
     else:
         mean_n = surface.normals.mean(axis=0)
         if abs(mean_n[2]) > 0.99 * np.linalg.norm(mean_n):

@@ -268,7 +268,7 @@ def test_office_one_click_report(ext, bpy, tmp_path, monkeypatch):
     # the images in Blender, packed into the .blend, and the false colours on the grid
     plan, page = s.plan_image, s.report_image
     assert plan is not None and plan.packed_file is not None
-    assert tuple(plan.size) == (512 + 12 + 32, 307)  # 5 × 3 m at 512 px, then the legend bar
+    assert tuple(plan.size) == (512 + 12 + 32, 341)  # the 6 × 4 m room at 512 px, then the legend bar
     assert page is not None and page.packed_file is not None and tuple(page.size) == (1754, 1240)
     grid = bpy.data.objects[s.result_object]
     assert ops.ATTRIBUTE in grid.data.color_attributes and grid.data.materials[0].name == ops.MATERIAL
@@ -362,7 +362,7 @@ def test_the_modal_operator_polls_the_worker_and_esc_cancels(ext, bpy, monkeypat
     plane = open_floor(ext, bpy)
     plane.spectral_gi_lux.samples = 64
     bpy.context.view_layer.objects.active = plane
-    cls = bpy.types.SPECTRALGI_OT_lux_calculate
+    cls = ops.SPECTRALGI_OT_lux_calculate
     reports = []
 
     class Modal:  # the operator's own methods on a stand-in instance

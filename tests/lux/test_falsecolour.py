@@ -210,6 +210,12 @@ def test_plan_image_of_an_l_shaped_work_plane():
     np.testing.assert_array_equal(with_bar[:, :120], img)
     with pytest.raises(LuxError, match="18 lux values"):
         fc.plan_image(s, e[:-1])
+    # with a 0.5 m band the plan still spans the room: the band transparent, the walls drawn
+    b = workplane(floor, band=0.5, spacing=1.0)
+    img = fc.plan_image(b, np.full(b.n_points, 100.0), size=120, legend=False)
+    assert img.shape == (80, 120, 4)
+    assert img[75, 5, 3] == 0.0 and img[40, 40, 3] == 1.0  # (0.25, 0.25) m in the band; (2, 2) m on the grid
+    assert np.allclose(img[40, 0, :3], 0.2) and img[40, 0, 3] == 1.0  # the wall x = 0
 
 
 def test_plan_image_of_mesh_face_points():

@@ -4,10 +4,11 @@
 
 A 6 × 4 × 2.8 m room (floor reflectance 0.2, walls 0.5, ceiling 0.7, Lambertian) with four
 downlights 2.7 m above the floor, each a point light with the shipped sample profile
-*Cosine Downlight* (``presets/ies/cosine_downlight.ldt``: I = 1000 cd · cos θ, 1000π lm), is built in Blender
-(bpy as a module, the add-on registered from this checkout). *Lighting Report* adds the
-0.75 m work plane over the room's floor with a 0.5 m band at the walls, calculates it and
-writes the report; this script copies the report page to ``office_report.png`` (drawn at
+*Cosine Downlight* (``presets/ies/cosine_downlight.ldt``: I = 1000 cd · cos θ, 1000π lm),
+is built in Blender (bpy as a module, the add-on registered from this checkout). The script
+adds the 0.75 m work plane over the room's floor with a 0.5 m band at the walls (as
+*Lighting Report* does when there is none), sets MF = 0.8 and 256 samples per point, and
+runs *Lighting Report*; it copies the report page to ``office_report.png`` (drawn at
 100 dpi, so the page stays small) and prints the statistics.
 """
 import argparse

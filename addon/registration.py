@@ -51,9 +51,10 @@ def register():
 
 
 def unregister():
-    from . import render_job
+    from . import lux_job, render_job
 
     render_job.cancel_current(wait=5.0)
+    lux_job.cancel_current(wait=5.0)
     for module in reversed(MODULES):
         extra = getattr(module, "unregister_extra", None)
         if extra is not None:

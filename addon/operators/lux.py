@@ -1,4 +1,16 @@
-"""Lighting analysis: Add Work Plane, Calculate Illuminance, Export Report (calculation surfaces in lx)."""
+"""Lighting analysis: Add Work Plane, Calculate Illuminance, Export Report, Lighting Report (in lx).
+
+Calculate Illuminance and Lighting Report export the scene on the main thread, calculate on a
+worker thread (``lux_job``: progress in the status bar and the panel, Esc cancels) and store
+the results on the main thread: the statistics in ``Object.spectral_gi_lux``, the per-point
+values and the surface in an ID property of the object (so reports can be written after the
+.blend is reopened), the false colours as a colour attribute with a material that shows them,
+and the plan and report page as packed images. In the background (scripts, ``bpy`` as a
+module) they run on the calling thread.
+"""
+import dataclasses
+import datetime
+import json
 import os
 
 import bpy
@@ -41,8 +53,11 @@ def build_surface(obj):
     try:
         if s.kind == "GRID":
             spacing = None if s.spacing_mode == "AUTO" else float(s.spacing)
-            return lux.face_set_grid(pos, tri, name=obj.name, spacing=spacing, band=float(s.band),
-                                     maintenance_factor=float(s.maintenance_factor))
+            surface = lux.face_set_grid(pos, tri, name=obj.name, spacing=spacing, band=float(s.band),
+                                        maintenance_factor=float(s.maintenance_factor))
+            if s.workplane:  # reported as a work plane (EN 12464-1); the same grid
+                surface = dataclasses.replace(surface, kind="workplane")
+            return surface
         if s.kind == "VERTICES":
             return lux.mesh_vertex_points(pos, tri, name=obj.name, maintenance_factor=float(s.maintenance_factor))
         return lux.mesh_face_points(pos, tri, name=obj.name, maintenance_factor=float(s.maintenance_factor))
@@ -53,26 +68,6 @@ def build_surface(obj):
 def marked_objects(scene):
     return [o for o in scene.objects if o.type == "MESH" and getattr(o, "spectral_gi_lux", None) is not None
             and o.spectral_gi_lux.enabled]
-
-
-def calculate_points(core_scene, surface, spp, rel_error, progress=None, seed=None):
-    """Initial lux, standard errors and samples at the surface's points, CHUNK points at a time."""
-    import numpy as np
-
-    from ... import core
-
-    lux, se, used = [], [], []
-    n = surface.n_points
-    for a in range(0, n, CHUNK):
-        b = min(n, a + CHUNK)
-        e, s, c = core.point_illuminance(core_scene, surface.points[a:b], surface.normals[a:b], spp=int(spp),
-                                         rel_error=rel_error or None, seed=seed)
-        lux.append(e)
-        se.append(s)
-        used.append(c)
-        if progress is not None:
-            progress(b, n)
-    return np.concatenate(lux), np.concatenate(se), np.concatenate(used)
 
 
 def _grid_object(obj, surface):
@@ -163,101 +158,457 @@ def write_colours(obj, surface, lux_m):
     return target
 
 
-def store_result(obj, surface, lux0, se, used):
-    """The statistics into obj.spectral_gi_lux (saved with the .blend); the false colours on the mesh."""
+RESULT_KEY = "_spectral_gi_lux_result"  # ID property: the surface, per-point values and luminaires of the last result
+PLAN_SIZE = 512  # px, the longer side of the false-colour plan image
+TIMER_STEP = 0.2  # seconds between UI updates while calculating
+
+
+def store_result(obj, surface, lux0, se, used, luminaires=()):
+    """The statistics into obj.spectral_gi_lux, the surface and its values into an ID property (both saved
+    with the .blend), the false colours on the mesh and the plan image. Returns the statistics."""
     from ...core import lux
 
-    st = lux.statistics(surface, lux0, se, samples=int(used.max()))
+    samples = int(used.max())
+    st = lux.statistics(surface, lux0, se, samples=samples)
     s = obj.spectral_gi_lux
     s.mean, s.minimum, s.maximum = st.mean, st.minimum, st.maximum
     s.u0, s.ud = st.u0 or 0.0, st.ud or 0.0
     s.n_points = st.n_points
+    s.grid_cols, s.grid_rows = (surface.grid_shape[1], surface.grid_shape[0]) if surface.grid_shape else (0, 0)
     s.spacing_u, s.spacing_v = surface.spacing if surface.spacing else (0.0, 0.0)
     s.band_used, s.mf_used = surface.band, surface.maintenance_factor
-    s.samples_used = int(used.max())
+    s.samples_used = samples
     s.max_rel_error = st.max_rel_std_error or 0.0
-    target = write_colours(obj, surface, lux0 * surface.maintenance_factor)
+    s.mean_rel_error = st.mean_rel_std_error or 0.0
+    s.area = st.area
+    lux_m = lux0 * surface.maintenance_factor
+    vmin, vmax = lux.auto_range(lux_m)
+    s.scale_min, s.scale_max = vmin, vmax
+    obj[RESULT_KEY] = {"surface": json.dumps(surface.to_dict()), "lux": [float(x) for x in lux0],
+                       "std_error": [float(x) for x in se], "samples": samples,
+                       "luminaires": json.dumps(list(luminaires))}
+    target = write_colours(obj, surface, lux_m)
     s.result_object = target.name
+    s.plan_image = plan_image(obj, surface, lux_m)
     s.valid = True
     return st
 
 
-LAST = {}  # object name → (surface, lux, std_error, samples) of this session's last calculation (for reports)
+def saved_result(obj):
+    """(surface, lux, std_error, samples, luminaires) of the object's last calculation, from the .blend; or None."""
+    import numpy as np
+
+    from ...core import lux
+
+    d = obj.get(RESULT_KEY)
+    if d is None:
+        return None
+    try:
+        surface = lux.CalculationSurface.from_dict(json.loads(d["surface"]))
+        e = np.array(d["lux"], dtype=np.float64)
+        se = np.array(d["std_error"], dtype=np.float64)
+        return surface, e, se, int(d["samples"]), json.loads(d["luminaires"])
+    except (KeyError, TypeError, ValueError) as exc:
+        raise LuxInputError(f"{obj.name!r}: the stored result cannot be read ({exc}); calculate again") from None
 
 
-def run_calculation(context, objects, progress=None):
-    """Export, build, calculate and store every surface in ``objects``. Returns messages; raises
-    LuxInputError or the exporter's errors (reported by the operator)."""
+def _replace_image(name, width, height):
+    img = bpy.data.images.get(name)
+    if img is not None:
+        bpy.data.images.remove(img)
+    return bpy.data.images.new(name, width, height, alpha=True)
+
+
+def plan_image(obj, surface, lux_m):
+    """The false-colour plan (maintained lx) as the packed image "<object> lux plan"; returns it."""
+    import numpy as np
+
+    from ...core import lux
+
+    rgba = lux.plan_image(surface, lux_m, size=PLAN_SIZE)
+    h, w = rgba.shape[:2]
+    img = _replace_image(f"{obj.name} lux plan", w, h)
+    img.pixels.foreach_set(np.ascontiguousarray(rgba[::-1], np.float32).ravel())  # Blender: rows bottom-up
+    img.update()
+    img.pack()
+    return img
+
+
+def write_plan_png(path, img):
+    """The plan image as an RGB PNG on white (NumPy and zlib only)."""
+    import numpy as np
+
+    from ...core.io.atomic import write_bytes
+    from ...core.io.png import encode_png
+
+    w, h = img.size
+    a = np.empty(w * h * 4, np.float32)
+    img.pixels.foreach_get(a)
+    a = a.reshape(h, w, 4)[::-1]
+    rgb = a[..., :3] * a[..., 3:] + (1.0 - a[..., 3:])
+    write_bytes(path, encode_png(np.round(np.clip(rgb, 0.0, 1.0) * 255.0).astype(np.uint8)))
+
+
+def has_matplotlib():
+    import importlib.util
+
+    return importlib.util.find_spec("matplotlib") is not None
+
+
+NO_MATPLOTLIB = ("the PNG/PDF report page needs matplotlib, which Blender's Python does not ship "
+                 "(see the lighting-analysis docs); the CSV, JSON and false-colour plan are written")
+
+
+def report_folder(context):
+    folder = bpy.path.abspath(context.scene.spectral_gi_report_dir) if context.scene.spectral_gi_report_dir else ""
+    if not folder:
+        folder = os.path.dirname(bpy.data.filepath) if bpy.data.filepath else bpy.app.tempdir
+    return folder
+
+
+def write_report(context, obj, folder):
+    """The report files of ``obj``'s stored result into ``folder``: <name>_lux.csv, .json, _plan.png and, with
+    matplotlib, the one-page .png and .pdf (loaded as the packed image "<object> lux report"). Returns
+    (paths written, the report image or None)."""
+    from ...core import lux
+
+    res = saved_result(obj)
+    if res is None:
+        raise LuxInputError(f"{obj.name!r} has no result: calculate the illuminance first")
+    surface, e, se, spp, luminaires = res
+    stem = os.path.join(folder, bpy.path.clean_name(obj.name) + "_lux")
+    project = os.path.splitext(bpy.path.basename(bpy.data.filepath))[0] or "Spectral GI"
+    date = datetime.date.today().isoformat()
+    os.makedirs(folder, exist_ok=True)
+    lux.write_surface_csv(stem + ".csv", surface, e, se)
+    lux.write_summary_json(stem + ".json", surface, e, se, samples=spp, luminaires=luminaires, project=project,
+                           date=date)
+    written = [stem + ".csv", stem + ".json"]
+    s = obj.spectral_gi_lux
+    if s.plan_image is not None:
+        write_plan_png(stem + "_plan.png", s.plan_image)
+        written.append(stem + "_plan.png")
+    img = None
+    if has_matplotlib():
+        lux.render_report(surface, e, se, samples=spp, luminaires=luminaires, project=project, date=date,
+                          png_path=stem + ".png", pdf_path=stem + ".pdf")
+        written += [stem + ".png", stem + ".pdf"]
+        old = bpy.data.images.get(f"{obj.name} lux report")
+        if old is not None:
+            bpy.data.images.remove(old)
+        img = bpy.data.images.load(stem + ".png")
+        img.name = f"{obj.name} lux report"
+        img.pack()
+        s.report_image = img
+    return written, img
+
+
+def _show(context, img):
+    if img is not None:
+        from ..imageio import show_in_image_editors
+
+        show_in_image_editors(img, context.window_manager)
+
+
+# ----------------------------------------------------------------------------- the job, shared by the operators
+
+
+def prepare_job(context, objects):
+    """Build the surfaces and export the scene (main thread); returns a LuxJob. Raises LuxInputError or the
+    exporter's errors. The export's warning, if any, is in ``job.warning``."""
+    from ...core.lux.schedule import luminaire_schedule
+    from .. import lux_job
     from ..export import export_scene
 
-    surfaces = [(o, build_surface(o)) for o in objects]
+    tasks = []
+    for o in objects:
+        s = o.spectral_gi_lux
+        tasks.append(lux_job.SurfaceTask(o.name, build_surface(o), s.samples, s.rel_error or None))
     exported = export_scene(context.evaluated_depsgraph_get(), context.scene)
+    settings = getattr(context.scene, "spectral_gi", None)
+    job = lux_job.LuxJob(exported.scene, tasks, threads=getattr(settings, "threads", 0),
+                         luminaires=luminaire_schedule(exported.scene))
+    job.warning = exported.warning
+    return job
+
+
+def store_job(job):
+    """Store a finished job's results on their objects (main thread). Returns one line per surface."""
     out = []
-    for obj, surface in surfaces:
-        s = obj.spectral_gi_lux
-        lux0, se, used = calculate_points(exported.scene, surface, s.samples, s.rel_error, progress)
-        st = store_result(obj, surface, lux0, se, used)
-        LAST[obj.name] = (surface, lux0, se, int(used.max()))
-        out.append(f"{obj.name}: Ē {st.mean:.4g} lx, Emin {st.minimum:.4g} lx, U0 {s.u0:.2f} ({st.n_points} points)")
+    for task in job.tasks:
+        obj = bpy.data.objects.get(task.name)
+        if obj is None or task.name not in job.results:
+            continue
+        e, se, used = job.results[task.name]
+        st = store_result(obj, task.surface, e, se, used, job.luminaires)
+        u0 = "–" if st.u0 is None else f"{st.u0:.2f}"
+        out.append(f"{obj.name}: Ē {st.mean:.4g} lx, Emin {st.minimum:.4g} lx, U0 {u0} ({st.n_points} points)")
     return out
 
 
-class SPECTRALGI_OT_lux_calculate(bpy.types.Operator):
-    """Calculate the illuminance (lx) on the calculation surfaces (the active one, or all marked)"""
+def _redraw(context):
+    from .render import _redraw as redraw
 
-    bl_idname = "spectral_gi.lux_calculate"
-    bl_label = "Calculate Illuminance"
-    bl_options = {"REGISTER", "UNDO"}
+    redraw(context.window_manager, ("PROPERTIES", "IMAGE_EDITOR", "VIEW_3D"))
 
-    all_surfaces: bpy.props.BoolProperty(name="All Surfaces", default=True,
-                                         description="Every marked surface of the scene, not only the active object")
 
-    def execute(self, context):
-        obj = context.active_object
-        objects = marked_objects(context.scene) if self.all_surfaces or obj is None else [obj]
-        objects = [o for o in objects if o.spectral_gi_lux.enabled]
-        if not objects:
-            self.report({"ERROR"}, "Spectral GI: no calculation surface (mark a mesh in Object properties)")
-            return {"CANCELLED"}
-        wm = context.window_manager
-        wm.progress_begin(0, 1)
+def _set_status(context, text):
+    from .render import _set_status as set_status
+
+    set_status(context, text)
+
+
+def _busy():
+    from .. import lux_job, render_job
+
+    return lux_job.busy() or render_job.busy()
+
+
+class _LuxJobOperator:
+    """Shared by Calculate Illuminance and Lighting Report: ``_objects`` picks the surfaces, the job runs
+    (modal with a worker thread when there is a window, else on the calling thread), ``_finish`` follows."""
+
+    _timer = None
+    _job = None
+
+    @classmethod
+    def poll(cls, context):
+        return context.scene is not None and not _busy()
+
+    def _objects(self, context):
+        raise NotImplementedError
+
+    def _prepare(self, context):
         try:
-            lines = run_calculation(context, objects, lambda done, n: wm.progress_update(done / max(n, 1)))
+            objects = self._objects(context)
+            job = prepare_job(context, objects)
         except LuxInputError as exc:
             self.report({"ERROR"}, f"Spectral GI: {exc}")
-            return {"CANCELLED"}
-        except Exception as exc:  # an export or integrator problem: report it, keep Blender alive
+            return None
+        except Exception as exc:  # an export problem: report it, keep Blender alive
             import traceback
 
             traceback.print_exc()
             self.report({"ERROR"}, f"Spectral GI: cannot calculate the illuminance: {exc}")
+            return None
+        if job.warning:
+            self.report({"WARNING"}, f"Spectral GI: {job.warning}")
+        return job
+
+    def _conclude(self, context, job):
+        from .. import lux_job
+
+        _redraw(context)
+        if job.error is not None:
+            if job.traceback:
+                print(job.traceback)
+            self.report({"ERROR"}, f"Spectral GI: {job.summary()}")
             return {"CANCELLED"}
-        finally:
-            wm.progress_end()
+        if job.cancelled:
+            self.report({"WARNING"}, f"Spectral GI: {job.summary()}")
+            return {"CANCELLED"}
+        try:
+            lines = store_job(job)
+            lines += self._finish(context, job)
+        except Exception as exc:  # writing a result or a report failed: say why
+            import traceback
+
+            traceback.print_exc()
+            lux_job.STATE.message = f"Failed: {exc}"
+            self.report({"ERROR"}, f"Spectral GI: {exc}")
+            return {"CANCELLED"}
         for line in lines:
             self.report({"INFO"}, "Spectral GI: " + line)
+        lux_job.STATE.message = job.summary()
+        _redraw(context)
         return {"FINISHED"}
+
+    def _finish(self, context, job):
+        return []
+
+    def execute(self, context):
+        job = self._prepare(context)
+        if job is None:
+            return {"CANCELLED"}
+        job.run_sync()
+        return self._conclude(context, job)
+
+    def invoke(self, context, event):
+        from .. import lux_job
+
+        if bpy.app.background or context.window is None:
+            return self.execute(context)
+        job = self._prepare(context)
+        if job is None:
+            return {"CANCELLED"}
+        self._job = job
+        job.start()
+        wm = context.window_manager
+        self._timer = wm.event_timer_add(TIMER_STEP, window=context.window)
+        wm.modal_handler_add(self)
+        wm.progress_begin(0, 1)
+        _set_status(context, lux_job.lux_status_line())
+        return {"RUNNING_MODAL"}
+
+    def modal(self, context, event):
+        from .. import lux_job
+
+        job = self._job
+        if event.type == "ESC" and event.value == "PRESS":
+            job.request_cancel()
+            _set_status(context, lux_job.lux_status_line())
+            return {"RUNNING_MODAL"}
+        if event.type != "TIMER":
+            return {"PASS_THROUGH"}
+        if not job.poll():
+            st = lux_job.STATE
+            context.window_manager.progress_update(st.done / max(st.total, 1))
+            _set_status(context, lux_job.lux_status_line())
+            _redraw(context)
+            return {"PASS_THROUGH"}
+        self._cleanup(context)
+        return self._conclude(context, job)
+
+    def cancel(self, context):
+        # Blender ends the modal operator (new file, quit): stop the worker, store nothing
+        if self._job is not None:
+            self._job.request_cancel()
+        self._cleanup(context)
+
+    def _cleanup(self, context):
+        wm = context.window_manager
+        if self._timer is not None:
+            wm.event_timer_remove(self._timer)
+            self._timer = None
+            wm.progress_end()
+        _set_status(context, None)
+
+
+class SPECTRALGI_OT_lux_calculate(_LuxJobOperator, bpy.types.Operator):
+    """Calculate the illuminance (lx) on the calculation surfaces (all marked, or the active one) in the
+    background; Esc cancels and keeps the earlier results"""
+
+    bl_idname = "spectral_gi.lux_calculate"
+    bl_label = "Calculate Illuminance"
+    bl_options = {"REGISTER"}
+
+    all_surfaces: bpy.props.BoolProperty(name="All Surfaces", default=True,
+                                         description="Every marked surface of the scene, not only the active object")
+
+    def _objects(self, context):
+        obj = context.active_object
+        objects = marked_objects(context.scene) if self.all_surfaces or obj is None else [obj]
+        objects = [o for o in objects if o.type == "MESH" and o.spectral_gi_lux.enabled]
+        if not objects:
+            raise LuxInputError("no calculation surface (mark a mesh in Object properties, or Add Work Plane)")
+        return objects
+
+    def _finish(self, context, job):
+        obj = context.active_object
+        if obj is not None and obj.name in job.results:
+            _show(context, obj.spectral_gi_lux.plan_image)
+        return []
+
+
+# ----------------------------------------------------------------------------- work planes
+
+
+def _outline_loops(edges):
+    """Closed vertex loops of a set of boundary edges [(a, b), …] (each vertex on two of them)."""
+    from collections import defaultdict
+
+    nbr = defaultdict(list)
+    for a, b in edges:
+        nbr[a].append(b)
+        nbr[b].append(a)
+    unused = {tuple(sorted(e)) for e in edges}
+    loops = []
+    while unused:
+        a, b = unused.pop()
+        loop = [a, b]
+        while True:
+            nxt = next((c for c in nbr[loop[-1]] if tuple(sorted((loop[-1], c))) in unused), None)
+            if nxt is None:
+                break
+            unused.discard(tuple(sorted((loop[-1], nxt))))
+            if nxt == loop[0]:
+                break
+            loop.append(nxt)
+        if len(loop) >= 3:
+            loops.append(loop)
+    return loops
+
+
+def _signed_area(xy):
+    """The shoelace area of a polygon (K, 2): positive when counter-clockwise."""
+    import numpy as np
+
+    x, y = xy[:, 0], xy[:, 1]
+    return 0.5 * float((x * np.roll(y, -1) - np.roll(x, -1) * y).sum())
 
 
 def floor_polygon(obj):
-    """The room's floor outline (K, 3) in metres: the bounding box footprint of the mesh at its lowest
-    point (the floor of a box room; an L-shaped room is covered by its bounding rectangle)."""
+    """The room's floor outline (K, 3) in metres, counter-clockwise seen from above: the outer boundary of
+    the mesh's horizontal faces at its lowest level (an L-shaped room gives its L), collinear vertices
+    dropped."""
     import numpy as np
 
+    me = obj.data
     pos, _ = _world_mesh(obj)
     if pos.shape[0] == 0:
         raise LuxInputError(f"{obj.name!r} has no vertices")
-    lo, hi = pos.min(axis=0), pos.max(axis=0)
-    if not (hi[0] - lo[0] > 0 and hi[1] - lo[1] > 0):
-        raise LuxInputError(f"{obj.name!r} has no floor area (its footprint is {hi[0]-lo[0]:.3g} × "
-                            f"{hi[1]-lo[1]:.3g} m)")
-    z = lo[2]
-    return np.array([[lo[0], lo[1], z], [hi[0], lo[1], z], [hi[0], hi[1], z], [lo[0], hi[1], z]])
+    zmin = float(pos[:, 2].min())
+    tol = 1e-5 * max(float(np.ptp(pos, axis=0).max()), 1.0)
+    low = np.abs(pos[:, 2] - zmin) <= tol
+    edges = {}
+    for poly in me.polygons:
+        vs = list(poly.vertices)
+        if len(vs) >= 3 and low[vs].all():
+            for a, b in zip(vs, vs[1:] + vs[:1]):
+                key = (min(a, b), max(a, b))
+                edges[key] = edges.get(key, 0) + 1
+    boundary = [e for e, n in edges.items() if n == 1]
+    loops = _outline_loops(boundary)
+    if not loops:
+        raise LuxInputError(f"{obj.name!r} has no floor: no horizontal faces at its lowest point "
+                            f"(z = {zmin:.3g} m)")
+    loop = max(loops, key=lambda lp: abs(_signed_area(pos[lp, :2])))
+    xy = pos[loop, :2]
+    if _signed_area(xy) < 0.0:
+        xy = xy[::-1]
+    keep = []
+    for k in range(len(xy)):  # drop vertices on a straight edge
+        a, b, c = xy[k - 1], xy[k], xy[(k + 1) % len(xy)]
+        cross = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0])
+        if abs(cross) > 1e-9 * max(np.hypot(*(b - a)) * np.hypot(*(c - b)), 1e-300):
+            keep.append(k)
+    xy = xy[keep]
+    if len(xy) < 3 or not abs(_signed_area(xy)) > 0.0:
+        raise LuxInputError(f"{obj.name!r}: its floor has no area")
+    return np.concatenate([xy, np.full((len(xy), 1), zmin)], axis=1)
+
+
+def add_workplane(context, room, height, band):
+    """A work plane mesh over ``room``'s floor outline, ``height`` m above it, marked as a grid calculation
+    surface (a work plane) with ``band`` m left out at the walls. Returns the new object."""
+    floor = floor_polygon(room)
+    scale = context.scene.unit_settings.scale_length or 1.0
+    verts = [tuple(float(c) / scale for c in (p[0], p[1], p[2] + height)) for p in floor]
+    me = bpy.data.meshes.new("Work Plane")
+    me.from_pydata(verts, [], [tuple(range(len(verts)))])
+    me.update()
+    wp = bpy.data.objects.new("Work Plane", me)
+    wp.hide_render = True  # a calculation surface does not block light
+    for coll in room.users_collection or (context.scene.collection,):
+        coll.objects.link(wp)
+    s = wp.spectral_gi_lux
+    s.enabled, s.kind, s.workplane, s.band = True, "GRID", True, float(band)
+    return wp
 
 
 class SPECTRALGI_OT_lux_add_workplane(bpy.types.Operator):
-    """Add a work plane over the active room: its bounding-box footprint at the work-plane height above its
-    lowest point, marked as a grid calculation surface with a 0.5 m band"""
+    """Add a work plane over the active room: its floor outline (the lowest horizontal faces) at the
+    work-plane height, marked as a grid calculation surface with a band at the walls"""
 
     bl_idname = "spectral_gi.lux_add_workplane"
     bl_label = "Add Work Plane"
@@ -268,76 +619,102 @@ class SPECTRALGI_OT_lux_add_workplane(bpy.types.Operator):
         if room is None or room.type != "MESH":
             self.report({"ERROR"}, "Spectral GI: select the room (a mesh) first")
             return {"CANCELLED"}
+        sc = context.scene
         try:
-            floor = floor_polygon(room)
+            wp = add_workplane(context, room, sc.spectral_gi_workplane_height,
+                               sc.spectral_gi_workplane_band if sc.spectral_gi_use_band else 0.0)
         except LuxInputError as exc:
             self.report({"ERROR"}, f"Spectral GI: {exc}")
             return {"CANCELLED"}
-        scale = context.scene.unit_settings.scale_length or 1.0
-        h = context.scene.spectral_gi_workplane_height
-        verts = [tuple(float(c) / scale for c in (p[0], p[1], p[2] + h)) for p in floor]
-        me = bpy.data.meshes.new("Work Plane")
-        me.from_pydata(verts, [], [(0, 1, 2, 3)])
-        me.update()
-        wp = bpy.data.objects.new("Work Plane", me)
-        wp.hide_render = True  # a calculation surface does not block light
-        context.scene.collection.objects.link(wp)
-        s = wp.spectral_gi_lux
-        s.enabled, s.kind, s.band = True, "GRID", 0.5
-        self.report({"INFO"}, f"Spectral GI: work plane {wp.name!r} at {h:.2f} m over {room.name!r}")
+        self.report({"INFO"}, f"Spectral GI: work plane {wp.name!r} at {sc.spectral_gi_workplane_height:.2f} m "
+                              f"over {room.name!r} ({len(wp.data.vertices)} corners)")
         return {"FINISHED"}
 
 
-def report_folder(context):
-    folder = bpy.path.abspath(context.scene.spectral_gi_report_dir) if context.scene.spectral_gi_report_dir else ""
-    if not folder:
-        folder = os.path.dirname(bpy.data.filepath) if bpy.data.filepath else bpy.app.tempdir
-    return folder
-
-
-def has_matplotlib():
-    import importlib.util
-
-    return importlib.util.find_spec("matplotlib") is not None
+# ----------------------------------------------------------------------------- reports
 
 
 class SPECTRALGI_OT_lux_export_report(bpy.types.Operator):
-    """Write the active surface's last result as CSV and JSON (and a PNG/PDF page with matplotlib)"""
+    """Write the active surface's last result: CSV, JSON and the false-colour plan (and the one-page PNG/PDF
+    report with matplotlib) into the report folder"""
 
     bl_idname = "spectral_gi.lux_export_report"
     bl_label = "Export Report"
 
     def execute(self, context):
-        from ...core import lux
-
         obj = context.active_object
-        if obj is None or obj.name not in LAST:
-            self.report({"ERROR"}, "Spectral GI: calculate the illuminance of the active surface first "
-                                   "(per-point values are not kept in the .blend)")
+        if obj is None or obj.get(RESULT_KEY) is None:
+            self.report({"ERROR"}, "Spectral GI: calculate the illuminance of the active surface first")
             return {"CANCELLED"}
-        surface, e, se, spp = LAST[obj.name]
-        folder = report_folder(context)
-        stem = os.path.join(folder, bpy.path.clean_name(obj.name) + "_lux")
         try:
-            os.makedirs(folder, exist_ok=True)
-            lux.write_surface_csv(stem + ".csv", surface, e, se)
-            lux.write_summary_json(stem + ".json", surface, e, se, samples=spp, project=bpy.path.basename(
-                bpy.data.filepath) or "Spectral GI")
-            written = [stem + ".csv", stem + ".json"]
-            if has_matplotlib():
-                lux.render_report(surface, e, se, samples=spp, png_path=stem + ".png", pdf_path=stem + ".pdf")
-                written += [stem + ".png", stem + ".pdf"]
-                img = bpy.data.images.load(stem + ".png", check_existing=True)
-                img.reload()
-                from ..imageio import show_in_image_editors
-
-                show_in_image_editors(img, context.window_manager)
+            written, img = write_report(context, obj, report_folder(context))
         except Exception as exc:
             self.report({"ERROR"}, f"Spectral GI: cannot write the report: {exc}")
             return {"CANCELLED"}
-        note = "" if has_matplotlib() else " (the PNG/PDF page needs the 'analysis' extra: matplotlib)"
+        _show(context, img or obj.spectral_gi_lux.plan_image)
+        note = "" if has_matplotlib() else f" ({NO_MATPLOTLIB})"
         self.report({"INFO"}, f"Spectral GI: wrote {', '.join(os.path.basename(p) for p in written)}{note}")
         return {"FINISHED"}
 
 
-classes = (SPECTRALGI_OT_lux_calculate, SPECTRALGI_OT_lux_add_workplane, SPECTRALGI_OT_lux_export_report)
+class SPECTRALGI_OT_lux_report(_LuxJobOperator, bpy.types.Operator):
+    """One click from the scene to the lighting report: calculate every calculation surface (adding a work
+    plane over the active room when there is none) and write each one's report (CSV, JSON, plan, and the
+    PNG/PDF page with matplotlib) into the report folder, showing the report in the Image Editor"""
+
+    bl_idname = "spectral_gi.lux_report"
+    bl_label = "Lighting Report"
+    bl_options = {"REGISTER"}
+
+    def _objects(self, context):
+        objects = marked_objects(context.scene)
+        if objects:
+            return objects
+        room = context.active_object
+        if room is None or room.type != "MESH":
+            raise LuxInputError("no calculation surface: select the room (a mesh) for a work plane over it, "
+                                "or mark a surface")
+        sc = context.scene
+        wp = add_workplane(context, room, sc.spectral_gi_workplane_height,
+                           sc.spectral_gi_workplane_band if sc.spectral_gi_use_band else 0.0)
+        self.report({"INFO"}, f"Spectral GI: added the work plane {wp.name!r} over {room.name!r}")
+        return [wp]
+
+    def _finish(self, context, job):
+        folder = report_folder(context)
+        lines, first = [], None
+        for task in job.tasks:
+            obj = bpy.data.objects.get(task.name)
+            if obj is None or task.name not in job.results:
+                continue
+            written, img = write_report(context, obj, folder)
+            first = first or img or obj.spectral_gi_lux.plan_image
+            lines.append(f"wrote {', '.join(os.path.basename(p) for p in written)} in {folder}")
+        if not has_matplotlib():
+            self.report({"WARNING"}, f"Spectral GI: {NO_MATPLOTLIB}")
+        _show(context, first)
+        return lines
+
+
+class SPECTRALGI_OT_lux_show_image(bpy.types.Operator):
+    """Show a lighting-analysis image (the false-colour plan or the report page) in the Image Editor"""
+
+    bl_idname = "spectral_gi.lux_show_image"
+    bl_label = "Show Image"
+
+    image: bpy.props.StringProperty(name="Image", description="Name of the image to show (no unit)")
+
+    def execute(self, context):
+        img = bpy.data.images.get(self.image)
+        if img is None:
+            self.report({"ERROR"}, f"Spectral GI: no image {self.image!r}")
+            return {"CANCELLED"}
+        from ..imageio import show_in_image_editors
+
+        if not show_in_image_editors(img, context.window_manager):
+            self.report({"INFO"}, f"Spectral GI: open an Image Editor to see {img.name!r}")
+        return {"FINISHED"}
+
+
+classes = (SPECTRALGI_OT_lux_calculate, SPECTRALGI_OT_lux_add_workplane, SPECTRALGI_OT_lux_export_report,
+           SPECTRALGI_OT_lux_report, SPECTRALGI_OT_lux_show_image)

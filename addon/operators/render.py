@@ -36,7 +36,9 @@ class SPECTRALGI_OT_render(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return context.scene is not None and not render_job.busy()
+        from .. import lux_job
+
+        return context.scene is not None and not render_job.busy() and not lux_job.busy()
 
     # ------------------------------------------------------------------ shared steps
 

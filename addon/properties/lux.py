@@ -1,6 +1,6 @@
 """Calculation surfaces: ``bpy.types.Object.spectral_gi_lux`` (settings and the last result, kept in the .blend)."""
 import bpy
-from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
 KINDS = (
     ("GRID", "Grid", "A regular grid over the planar mesh (EN 12464-1 spacing), shown as a new grid object"),
@@ -34,6 +34,9 @@ class SpectralGILuxSurface(bpy.types.PropertyGroup):
     rel_error: FloatProperty(name="Relative Error", default=0.0, min=0.0, max=1.0,
                              description="Stop a point's sampling at this relative standard error "
                                          "(a fraction, 0: off, always take all samples)")
+    workplane: BoolProperty(name="Work Plane", default=False,
+                            description="Report this grid as a work plane (EN 12464-1); set by Add Work Plane "
+                                        "(on/off, no unit)")
     # the last result
     valid: BoolProperty(name="Result Available", default=False,
                         description="True once the illuminance was calculated (no unit)")
@@ -43,6 +46,9 @@ class SpectralGILuxSurface(bpy.types.PropertyGroup):
     u0: FloatProperty(name="U0", default=0.0, description="Uniformity Emin / Ē (no unit; 0 when Ē = 0)")
     ud: FloatProperty(name="Ud", default=0.0, description="Uniformity Emin / Emax (no unit; 0 when Emax = 0)")
     n_points: IntProperty(name="Points", default=0, description="Number of calculation points (a count)")
+    grid_cols: IntProperty(name="Grid Columns", default=0, description="Grid points along u (a count; 0: no grid)")
+    grid_rows: IntProperty(name="Grid Rows", default=0, description="Grid points along v (a count; 0: no grid)")
+    area: FloatProperty(name="Area", default=0.0, description="Area the points stand for, in m²")
     spacing_u: FloatProperty(name="Spacing U", default=0.0, description="Grid spacing used along u, in metres")
     spacing_v: FloatProperty(name="Spacing V", default=0.0, description="Grid spacing used along v, in metres")
     band_used: FloatProperty(name="Band Used", default=0.0, description="Band used, in metres")
@@ -50,6 +56,16 @@ class SpectralGILuxSurface(bpy.types.PropertyGroup):
     samples_used: IntProperty(name="Samples Used", default=0, description="Most samples taken at a point (a count)")
     max_rel_error: FloatProperty(name="Max Relative Error", default=0.0,
                                  description="Largest relative standard error over the points (a fraction)")
+    mean_rel_error: FloatProperty(name="Mean Relative Error", default=0.0,
+                                  description="Mean relative standard error over the points (a fraction)")
+    scale_min: FloatProperty(name="Scale Minimum", default=0.0,
+                             description="Lowest value of the false-colour scale, in lx")
+    scale_max: FloatProperty(name="Scale Maximum", default=0.0,
+                             description="Highest value of the false-colour scale, in lx")
+    plan_image: PointerProperty(type=bpy.types.Image, name="Plan Image",
+                                description="The false-colour plan of the last result (a packed image)")
+    report_image: PointerProperty(type=bpy.types.Image, name="Report Image",
+                                  description="The one-page report of the last export (a packed image)")
     result_object: StringProperty(name="Result Object", default="",
                                   description="Name of the object carrying the false colours (no unit)")
 
@@ -65,6 +81,12 @@ def register_properties():
     bpy.types.Scene.spectral_gi_workplane_height = FloatProperty(
         name="Work Plane Height", default=0.75, min=0.0, soft_max=3.0, unit="LENGTH",
         description="Height of a new work plane above the floor, in metres")
+    bpy.types.Scene.spectral_gi_use_band = BoolProperty(
+        name="Wall Band", default=True,
+        description="Leave a band along the walls out of a new work plane (EN 12464-1; on/off, no unit)")
+    bpy.types.Scene.spectral_gi_workplane_band = FloatProperty(
+        name="Band", default=0.5, min=0.0, soft_max=2.0, unit="LENGTH",
+        description="Width of the band along the walls left out of a new work plane, in metres")
     bpy.types.Scene.spectral_gi_report_dir = StringProperty(
         name="Report Folder", default="", subtype="DIR_PATH",
         description="Folder for the lux reports (a path; empty: beside the .blend file, or the temporary folder)")
@@ -72,6 +94,7 @@ def register_properties():
 
 def unregister_properties():
     for owner, name in ((bpy.types.Scene, "spectral_gi_report_dir"), (bpy.types.Scene, "spectral_gi_workplane_height"),
+                        (bpy.types.Scene, "spectral_gi_use_band"), (bpy.types.Scene, "spectral_gi_workplane_band"),
                         (bpy.types.Object, PROPERTY)):
         if hasattr(owner, name):
             delattr(owner, name)

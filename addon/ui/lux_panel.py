@@ -1,5 +1,42 @@
-"""Properties > Object > Spectral GI Lighting Analysis: calculation surface settings and results table."""
+"""Lighting analysis panels: Properties > Object > Spectral GI Lighting Analysis (a surface's settings and
+its results table) and the 3D Viewport's sidebar > Spectral GI > Lighting (the scene's surfaces, the
+one-click report)."""
 import bpy
+
+
+def _progress(layout):
+    from .. import lux_job
+
+    st = lux_job.STATE
+    if st.running:
+        layout.label(text=lux_job.lux_status_line(), icon="TIME")
+        if st.total:
+            layout.progress(factor=min(1.0, st.done / st.total), text=f"{100 * st.done / st.total:.0f} %")
+        return True
+    if st.message:
+        layout.label(text=st.message, icon="INFO")
+    return False
+
+
+def result_rows(s):
+    """(label, value) rows of a surface's stored result, as the report's statistics table."""
+    rows = [("Ē (maintained)", f"{s.mean:.4g} lx"), ("Emin", f"{s.minimum:.4g} lx"), ("Emax", f"{s.maximum:.4g} lx"),
+            ("U0 = Emin/Ē", f"{s.u0:.2f}"), ("Ud = Emin/Emax", f"{s.ud:.2f}")]
+    if s.grid_cols:
+        rows.append(("Grid", f"{s.grid_cols} × {s.grid_rows}"))
+        rows.append(("Spacing", f"{s.spacing_u:.3f} × {s.spacing_v:.3f} m"))
+    rows += [("Points", str(s.n_points)), ("Area", f"{s.area:.2f} m²"), ("Band", f"{s.band_used:.2f} m"),
+             ("MF", f"{s.mf_used:.3f}"), ("Samples per point", str(s.samples_used)),
+             ("Std. error max / mean", f"{100 * s.max_rel_error:.2f} / {100 * s.mean_rel_error:.2f} %"),
+             ("Colour scale", f"{s.scale_min:.4g} – {s.scale_max:.4g} lx, 8 steps")]
+    return rows
+
+
+def _images(layout, s):
+    row = layout.row(align=True)
+    for img, label, icon in ((s.plan_image, "Show Plan", "IMAGE_DATA"), (s.report_image, "Show Report", "FILE_IMAGE")):
+        if img is not None:
+            row.operator("spectral_gi.lux_show_image", text=label, icon=icon).image = img.name
 
 
 class SPECTRALGI_PT_lux(bpy.types.Panel):
@@ -31,31 +68,65 @@ class SPECTRALGI_PT_lux(bpy.types.Panel):
             if s.spacing_mode == "USER":
                 sub.prop(s, "spacing")
             sub.prop(s, "band")
+            sub.prop(s, "workplane")
         sub.prop(s, "maintenance_factor")
         sub.prop(s, "samples")
         sub.prop(s, "rel_error")
         row = layout.row(align=True)
         row.operator("spectral_gi.lux_calculate", icon="LIGHT_SUN")
         row.operator("spectral_gi.lux_add_workplane", icon="MESH_GRID")
-        layout.prop(context.scene, "spectral_gi_workplane_height")
+        col = layout.column(align=True)
+        col.use_property_split = True
+        col.prop(context.scene, "spectral_gi_workplane_height")
+        col.prop(context.scene, "spectral_gi_use_band")
+        sub = col.column()
+        sub.active = context.scene.spectral_gi_use_band
+        sub.prop(context.scene, "spectral_gi_workplane_band")
+        _progress(layout)
         if s.valid:
             box = layout.box()
             box.label(text="Results (maintained, lx)", icon="GRAPH")
             grid = box.grid_flow(row_major=True, columns=2, even_columns=True)
-            for name, value in (("Ē", f"{s.mean:.4g} lx"), ("Emin", f"{s.minimum:.4g} lx"),
-                                ("Emax", f"{s.maximum:.4g} lx"), ("U0 = Emin/Ē", f"{s.u0:.2f}"),
-                                ("Ud = Emin/Emax", f"{s.ud:.2f}"), ("Points", str(s.n_points)),
-                                ("Spacing", f"{s.spacing_u:.3f} × {s.spacing_v:.3f} m"),
-                                ("Band", f"{s.band_used:.2f} m"), ("MF", f"{s.mf_used:.3f}"),
-                                ("Samples", str(s.samples_used)), ("Max rel. error", f"{100 * s.max_rel_error:.2f} %")):
+            for name, value in result_rows(s):
                 grid.label(text=name)
                 grid.label(text=value)
             if s.result_object:
                 box.label(text=f"False colour on {s.result_object!r}", icon="COLOR")
+            _images(box, s)
         layout.prop(context.scene, "spectral_gi_report_dir")
-        layout.operator("spectral_gi.lux_export_report", icon="FILE")
+        row = layout.row(align=True)
+        row.operator("spectral_gi.lux_export_report", icon="FILE")
+        row.operator("spectral_gi.lux_report", icon="DOCUMENTS")
         if not has_matplotlib():
-            layout.label(text="The PNG/PDF page needs the 'analysis' extra (matplotlib)", icon="INFO")
+            layout.label(text="No matplotlib in Blender: CSV, JSON and plan only (no PNG/PDF page)", icon="INFO")
 
 
-classes = (SPECTRALGI_PT_lux,)
+class SPECTRALGI_PT_lux_view3d(bpy.types.Panel):
+    bl_idname = "SPECTRALGI_PT_lux_view3d"
+    bl_label = "Lighting"
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "Spectral GI"
+
+    def draw(self, context):
+        from ..operators.lux import marked_objects
+
+        layout = self.layout
+        layout.operator("spectral_gi.lux_report", icon="DOCUMENTS")
+        row = layout.row(align=True)
+        row.operator("spectral_gi.lux_calculate", icon="LIGHT_SUN")
+        row.operator("spectral_gi.lux_add_workplane", icon="MESH_GRID")
+        _progress(layout)
+        for obj in marked_objects(context.scene):
+            s = obj.spectral_gi_lux
+            box = layout.box()
+            box.label(text=obj.name, icon="MESH_GRID")
+            if not s.valid:
+                box.label(text="Not calculated")
+                continue
+            box.label(text=f"Ē {s.mean:.4g} lx   Emin {s.minimum:.4g} lx   U0 {s.u0:.2f}")
+            box.label(text=f"Emax {s.maximum:.4g} lx   Emin/Emax {s.ud:.2f}   MF {s.mf_used:.2f}")
+            _images(box, s)
+
+
+classes = (SPECTRALGI_PT_lux, SPECTRALGI_PT_lux_view3d)

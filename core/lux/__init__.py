@@ -13,7 +13,7 @@ What a lighting designer does with DIALux, Relux or Radiance, around the rendere
 * :mod:`.report` — Ē (area-weighted), Emin, Emax, U0, Ud, the Monte Carlo error, the CIE 97:2005
   maintenance factor; per-point CSV, JSON summary and a one-page PNG/PDF report.
 * :mod:`.falsecolour` — colour lookup (pure NumPy, the viridis table in ``presets/colormaps``),
-  linear/log scales, N steps or continuous, legends and labelled iso-lux lines (matplotlib).
+  linear/log scales, N steps or continuous, the plan image (NumPy), legends and labelled iso-lux lines (matplotlib).
 * :mod:`.cie171` — CIE 171:2006 analytic test cases as scenes, points and expected lux.
 * :mod:`.calculate` — runs an integrator on points, a ``.pts`` file or a surface and checks
   what it returns.
@@ -45,6 +45,7 @@ from .falsecolour import (
     false_colour_image,
     generate_colormap_tables,
     legend_levels,
+    plan_image,
     scale_positions,
 )
 from .grids import (
@@ -96,6 +97,7 @@ __all__ = [
     "mesh_face_points",
     "mesh_vertex_points",
     "parse_pts",
+    "plan_image",
     "points_per_side",
     "polygon_grid",
     "read_pts",

@@ -217,6 +217,97 @@ def colour_attribute(surface, lux, vmin: float | None = None, vmax: float | None
     return rgba
 
 
+def _paint_segment(rgba, a, b, colour):
+    """Paint the segment a → b (pixel coordinates x, y; y down) into ``rgba`` (H, W, 4), one pixel wide."""
+    h, w = rgba.shape[:2]
+    n = int(np.ceil(2.0 * np.hypot(*(b - a)))) + 2
+    t = np.linspace(0.0, 1.0, n)[:, None]
+    xy = np.rint(a + t * (b - a)).astype(np.int64)
+    ok = (xy[:, 0] >= 0) & (xy[:, 0] < w) & (xy[:, 1] >= 0) & (xy[:, 1] < h)
+    rgba[xy[ok, 1], xy[ok, 0]] = colour
+
+
+def plan_image(surface, lux, vmin: float | None = None, vmax: float | None = None, steps: int = DEFAULT_STEPS,
+               scale: str = "linear", colormap_name: str = "viridis", size: int = 512,
+               legend: bool = True) -> np.ndarray:
+    """The false-colour plan of a calculation surface as an RGBA image (H, W, 4) float32, sRGB-encoded,
+    row 0 at the top (pure NumPy, for Blender's Image Editor).
+
+    A grid is drawn cell by cell (square pixels, the longer side of the grid and its outline about
+    ``size`` px), the surface's outline (the band included) in dark grey, cells without a point and
+    the band transparent; points on mesh vertices or faces are drawn as
+    squares of their area in the plane of the points (world X/Y for a horizontal surface). With
+    ``legend``, a bar of the band colours (lowest at the bottom) stands at the right; its values
+    are :func:`legend_levels` of the same range."""
+    e = np.asarray(lux, dtype=np.float64)
+    if e.shape != (surface.n_points,):
+        raise LuxError(f"surface {surface.name!r}: expected {surface.n_points} lux values, got shape {e.shape}")
+    size = int(size)
+    if size < 16:
+        raise LuxError(f"a plan image needs at least 16 px, got {size}")
+    vmin, vmax = _range(e, vmin, vmax, scale)
+    steps = _check_steps(steps)
+    edge = np.array([0.2, 0.2, 0.2, 1.0], np.float32)
+    if surface.is_grid:
+        rows, cols = surface.grid_shape
+        du, dv = surface.spacing
+        x0, x1, y0, y1 = 0.0, cols * du, 0.0, rows * dv  # the plane frame, metres from the grid's corner
+        if surface.outline is not None and len(surface.outline):  # the whole outline, band included
+            ol = surface.outline.reshape(-1, 2)
+            x0, y0 = min(x0, float(ol[:, 0].min())), min(y0, float(ol[:, 1].min()))
+            x1, y1 = max(x1, float(ol[:, 0].max())), max(y1, float(ol[:, 1].max()))
+        ppm = size / max(x1 - x0, y1 - y0)  # pixels per metre
+        w, h = max(1, int(round((x1 - x0) * ppm))), max(1, int(round((y1 - y0) * ppm)))
+        img = surface.grid_image(e)
+        cell = np.zeros((rows + 1, cols + 1, 4), np.float32)  # the extra row and column: outside, transparent
+        cell[:rows, :cols, :3] = false_colour(img, vmin, vmax, steps, scale, colormap_name)
+        cell[:rows, :cols, 3] = np.isfinite(img)
+        u = x0 + (np.arange(w) + 0.5) / ppm
+        v = y1 - (np.arange(h) + 0.5) / ppm  # row 0 at the top: v decreasing downwards
+        ci = np.floor(u / du).astype(np.int64)
+        rj = np.floor(v / dv).astype(np.int64)
+        ci[(ci < 0) | (ci >= cols)] = cols
+        rj[(rj < 0) | (rj >= rows)] = rows
+        plan = cell[rj][:, ci]
+        if surface.outline is not None:
+            lim = [w - 1, h - 1]
+            for a, b in surface.outline:
+                pa = np.array([(a[0] - x0) * ppm, (y1 - a[1]) * ppm - 0.5])
+                pb = np.array([(b[0] - x0) * ppm, (y1 - b[1]) * ppm - 0.5])
+                _paint_segment(plan, np.clip(pa, 0, lim), np.clip(pb, 0, lim), edge)
+    else:
+        mean_n = surface.normals.mean(axis=0)
+        if abs(mean_n[2]) > 0.99 * np.linalg.norm(mean_n):
+            uv = surface.points[:, :2]
+        else:
+            c = surface.points.mean(axis=0)
+            _, _, vt = np.linalg.svd(surface.points - c)
+            uv = (surface.points - c) @ vt[:2].T
+        half = 0.5 * np.sqrt(surface.weights)
+        lo, hi = (uv - half[:, None]).min(axis=0), (uv + half[:, None]).max(axis=0)
+        ppm = size / max(float((hi - lo).max()), 1e-9)
+        w, h = (max(1, int(round(float(x)))) for x in (hi - lo) * ppm)
+        plan = np.zeros((h, w, 4), np.float32)
+        rgb = false_colour(e, vmin, vmax, steps, scale, colormap_name)
+        for k in np.argsort(-surface.weights):  # small squares over large ones
+            x0 = max(0, int(np.floor((uv[k, 0] - half[k] - lo[0]) * ppm)))
+            x1 = max(x0 + 1, int(np.ceil((uv[k, 0] + half[k] - lo[0]) * ppm)))
+            y0 = max(0, int(np.floor((hi[1] - uv[k, 1] - half[k]) * ppm)))
+            y1 = max(y0 + 1, int(np.ceil((hi[1] - uv[k, 1] + half[k]) * ppm)))
+            plan[y0:y1, x0:x1, :3] = rgb[k]
+            plan[y0:y1, x0:x1, 3] = 1.0
+    if not legend:
+        return plan
+    gap, bar = max(4, w // 40), max(8, w // 16)
+    bands = step_colours(steps, colormap_name) if steps else colormap(colormap_name)
+    k = np.minimum(((h - 1 - np.arange(h)) / h * len(bands)).astype(np.int64), len(bands) - 1)
+    out = np.zeros((h, w + gap + bar, 4), np.float32)
+    out[:, :w] = plan
+    out[:, w + gap:, :3] = bands[k][:, None, :]
+    out[:, w + gap:, 3] = 1.0
+    return out
+
+
 # --------------------------------------------------------------------------- drawing (matplotlib)
 
 

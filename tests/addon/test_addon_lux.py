@@ -1,5 +1,6 @@
 """Lighting analysis in Blender: calculation surfaces, Calculate Illuminance, the stored statistics."""
 import importlib
+import importlib.util
 import math
 
 import pytest
@@ -81,3 +82,327 @@ def test_add_work_plane(ext, bpy):
     zs = [v.co.z for v in wp.data.vertices]
     assert all(math.isclose(z, 0.75, abs_tol=1e-6) for z in zs) and wp.spectral_gi_lux.enabled
     assert wp.hide_render
+
+
+# ----------------------------------------------------------------------------- work planes over the floor outline
+
+L_FLOOR = [(0, 0), (6, 0), (6, 2), (3, 2), (3, 4), (0, 4)]  # m, an L: 6 × 4 less the corner 3..6 × 2..4
+
+
+def l_room(ext, height=2.8):
+    """An L-shaped room: the floor as three quads (so its outline has points on straight edges), the
+    ceiling as one n-gon, the walls as quads."""
+    pts = [(0, 0), (3, 0), (6, 0), (6, 2), (3, 2), (3, 4), (0, 4), (0, 2)]
+    verts = [(x, y, 0.0) for x, y in pts] + [(x, y, height) for x, y in pts]
+    floor = [(0, 1, 4, 7), (1, 2, 3, 4), (7, 4, 5, 6)]
+    ceiling = [tuple(range(15, 7, -1))]
+    walls = [(k - 1 if k else 7, k, k + 8, (k - 1 if k else 7) + 8) for k in range(8)]
+    return ext.build.mesh("L Room", verts, floor + ceiling + walls)
+
+
+def test_work_plane_follows_an_l_shaped_floor(ext, bpy):
+    ops = lux_ops(ext)
+    room = l_room(ext)
+    bpy.context.view_layer.objects.active = room
+    poly = ops.floor_polygon(room)
+    assert poly.shape == (6, 3) and np.allclose(poly[:, 2], 0.0)
+    assert {tuple(p) for p in poly[:, :2].round(9).tolist()} == {tuple(map(float, p)) for p in L_FLOOR}
+    assert ops._signed_area(poly[:, :2]) == pytest.approx(18.0)  # counter-clockwise, 24 − 6 m²
+    assert bpy.ops.spectral_gi.lux_add_workplane() == {"FINISHED"}
+    wp = bpy.data.objects["Work Plane"]
+    assert len(wp.data.vertices) == 6 and len(wp.data.polygons) == 1
+    assert all(math.isclose(v.co.z, 0.75, abs_tol=1e-9) for v in wp.data.vertices)
+    assert wp.data.polygons[0].normal.z == pytest.approx(1.0)  # the points face up
+    s = wp.spectral_gi_lux
+    assert s.enabled and s.workplane and s.kind == "GRID" and s.band == pytest.approx(0.5)
+    surface = ops.build_surface(wp)
+    assert surface.kind == "workplane"
+    want = ext.core.lux.workplane(L_FLOOR, height=0.75, band=0.5)  # core's own work plane over the polygon
+    assert surface.grid_shape == want.grid_shape and surface.n_points == want.n_points
+    np.testing.assert_allclose(np.sort(surface.points, axis=0), np.sort(want.points, axis=0), atol=1e-9)
+    x, y = surface.points[:, 0], surface.points[:, 1]
+    assert not ((x > 2.5) & (y > 1.5)).any()  # nothing in the missing corner nor its band
+    assert (x >= 0.5).all() and (y >= 0.5).all() and (x <= 5.5).all() and (y <= 3.5).all()
+    bpy.context.scene.spectral_gi_use_band = False
+    bpy.context.view_layer.objects.active = room
+    assert bpy.ops.spectral_gi.lux_add_workplane() == {"FINISHED"}
+    assert bpy.data.objects["Work Plane.001"].spectral_gi_lux.band == 0.0
+
+
+def test_work_plane_needs_a_floor(ext, bpy):
+    ops = lux_ops(ext)
+    wall = ext.build.mesh("Wall", [(0, 0, 0), (1, 0, 0), (1, 0, 1), (0, 0, 1)], [(0, 1, 2, 3)])
+    with pytest.raises(ops.LuxInputError, match="no floor"):
+        ops.floor_polygon(wall)
+    bpy.context.view_layer.objects.active = wall
+    with pytest.raises(RuntimeError, match="no floor"):
+        bpy.ops.spectral_gi.lux_add_workplane()
+
+
+# ----------------------------------------------------------------------------- background job: cancel, errors
+
+
+def _plan_pixels(img):
+    a = np.empty(img.size[0] * img.size[1] * 4, np.float32)
+    img.pixels.foreach_get(a)
+    return a
+
+
+def test_cancel_keeps_the_earlier_result(ext, bpy, monkeypatch):
+    ops = lux_ops(ext)
+    job_mod = importlib.import_module(ext.module.__name__ + ".addon.lux_job")
+    plane = open_floor(ext, bpy)
+    plane.spectral_gi_lux.samples = 64  # batches of 16, 16, 32 samples: a cancel after the first stops early
+    bpy.context.view_layer.objects.active = plane
+    assert bpy.ops.spectral_gi.lux_calculate() == {"FINISHED"}
+    s = plane.spectral_gi_lux
+    before = (s.mean, s.minimum, s.maximum, s.u0, s.samples_used)
+    stored = list(plane[ops.RESULT_KEY]["lux"])
+    pixels = _plan_pixels(s.plan_image)
+    bpy.data.objects["Bulb"].data.spectral_gi.value = 4 * I_CD  # a different scene: a result would differ
+
+    # the operator (on the calling thread in the background), cancelled after its first batch
+    seen = []
+
+    def cancel_after_first(job, done, total):
+        seen.append((done, total))
+        job.request_cancel()
+
+    monkeypatch.setattr(job_mod.LuxJob, "on_progress", cancel_after_first)
+    assert bpy.ops.spectral_gi.lux_calculate() == {"CANCELLED"}
+    assert seen == [(16 * 16, 16 * 64)]  # 16 points × the first batch of 16, of 16 × 64 samples
+    assert job_mod.STATE.phase == "Cancelled" and not job_mod.STATE.running and not job_mod.busy()
+    assert (s.mean, s.minimum, s.maximum, s.u0, s.samples_used) == before
+    assert list(plane[ops.RESULT_KEY]["lux"]) == stored
+    np.testing.assert_array_equal(_plan_pixels(s.plan_image), pixels)
+
+    # the worker thread, as the modal operator runs it
+    job = ops.prepare_job(bpy.context, [plane])
+    job.start()
+    job.thread.join(timeout=600)
+    assert job.poll() and job.cancelled and job.results == {} and ops.store_job(job) == []
+    assert s.mean == before[0]
+
+    # an integrator failure is reported, not raised into Blender; the result stays
+    monkeypatch.setattr(job_mod.LuxJob, "on_progress", None)
+
+    def boom(*args, **kw):
+        raise RuntimeError("integrator exploded")
+
+    monkeypatch.setattr(ext.core, "point_illuminance", boom, raising=False)
+    with pytest.raises(RuntimeError, match="integrator exploded"):
+        bpy.ops.spectral_gi.lux_calculate()
+    assert job_mod.STATE.phase == "Failed" and s.mean == before[0]
+    monkeypatch.delattr(ext.core, "point_illuminance")
+    assert bpy.ops.spectral_gi.lux_calculate() == {"FINISHED"}
+    assert s.mean == pytest.approx(4 * before[0], rel=1e-9)  # I × 4: every sample × 4
+
+
+# ----------------------------------------------------------------------------- the office, one click to the report
+
+
+def office_module():
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[2] / "benchmarks" / "office_report.py"
+    spec = importlib.util.spec_from_file_location("spectral_gi_office_report", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def _png_size(path):
+    import struct
+
+    data = path.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    return struct.unpack(">II", data[16:24])
+
+
+@pytest.mark.slow
+def test_office_one_click_report(ext, bpy, tmp_path, monkeypatch):
+    import json
+
+    ops = lux_ops(ext)
+    office = office_module()
+    office.build_office(bpy)
+    scene = bpy.context.scene
+    scene.spectral_gi_report_dir = str(tmp_path / "report")
+    assert ops.marked_objects(scene) == []
+    assert bpy.ops.spectral_gi.lux_report() == {"FINISHED"}
+
+    # the work plane it added: the floor at 0.75 m, a 0.5 m band, the EN 12464-1 grid (5 × 3 m inside the band:
+    # d = 5 m, p = 0.2 · 5^log10(5) = 0.617 m, 9 × 5 points)
+    wp = bpy.data.objects["Work Plane"]
+    s = wp.spectral_gi_lux
+    assert s.valid and s.workplane and (s.grid_cols, s.grid_rows) == (9, 5) and s.n_points == 45
+    assert s.band_used == pytest.approx(0.5) and s.samples_used == 64
+    stem = tmp_path / "report" / "Work_Plane_lux"
+    for suffix in (".csv", ".json", ".png", ".pdf", "_plan.png"):
+        assert stem.with_name(stem.name + suffix).is_file(), suffix
+    assert _png_size(stem.with_suffix(".png")) == (1754, 1240)  # A4 landscape at 150 dpi
+    summary = json.loads(stem.with_suffix(".json").read_text())
+
+    # the same numbers as core on the exported scene: the same points, seed and samples
+    surface = ops.build_surface(wp)
+    assert surface.kind == "workplane"
+    exported = ext.build.export(ext)
+    e, se, used = ext.core.point_illuminance(exported.scene, surface.points, surface.normals, spp=64)
+    st = ext.core.lux.statistics(surface, e, se, samples=64)
+    got = summary["statistics"]
+    for key in ("mean", "minimum", "maximum", "u0", "ud", "max_rel_std_error"):
+        assert got[key] == pytest.approx(getattr(st, key), rel=1e-12), key
+    assert (s.mean, s.minimum, s.maximum) == pytest.approx((st.mean, st.minimum, st.maximum), rel=1e-6)
+    assert s.u0 == pytest.approx(st.u0, rel=1e-6) and s.ud == pytest.approx(st.ud, rel=1e-6)
+    csv = np.loadtxt(stem.with_suffix(".csv"), delimiter=",", skiprows=1)
+    np.testing.assert_allclose(csv[:, 6], e, rtol=1e-12)
+    # the luminaire schedule: four profiled point lights of 1000π lm (the profile I = 1000 cd cos θ)
+    (row,) = summary["luminaires"]
+    assert row["count"] == 4 and row["type"] == "point" and "cosine_downlight" in row["profile"]
+    assert row["lumens"] == pytest.approx(office.I0 * math.pi, rel=2e-3)
+    # a lit office: the inter-reflections add to the direct light everywhere on average
+    direct = np.array([office.direct_illuminance(*p) for p in surface.points])
+    assert st.mean > 1.1 * direct.mean()
+
+    # the images in Blender, packed into the .blend, and the false colours on the grid
+    plan, page = s.plan_image, s.report_image
+    assert plan is not None and plan.packed_file is not None
+    assert tuple(plan.size) == (512 + 12 + 32, 341)  # the 6 × 4 m room at 512 px, then the legend bar
+    assert page is not None and page.packed_file is not None and tuple(page.size) == (1754, 1240)
+    grid = bpy.data.objects[s.result_object]
+    assert ops.ATTRIBUTE in grid.data.color_attributes and grid.data.materials[0].name == ops.MATERIAL
+
+    # the direct component by hand: a black room, maintenance factor 0.8
+    for name in ("Floor", "Walls", "Ceiling"):
+        bpy.data.materials[name].node_tree.nodes["Diffuse BSDF"].inputs["Color"].default_value = (0, 0, 0, 1)
+    s.maintenance_factor = 0.8
+    bpy.context.view_layer.objects.active = wp
+    assert bpy.ops.spectral_gi.lux_calculate() == {"FINISHED"}
+    surface2, e2, se2, spp2, _ = ops.saved_result(wp)
+    np.testing.assert_array_equal(surface2.points, surface.points)
+    tol = 5.0 * se2 + 2e-3 * direct  # Monte Carlo (the light picked per sample) and the profile's 5° table
+    assert (np.abs(e2 - direct) <= tol).all(), np.abs(e2 - direct) / tol
+    k = int(np.argmax(direct))
+    assert e2[k] == pytest.approx(direct[k], rel=0.02)
+    assert s.mean == pytest.approx(0.8 * direct.mean(), rel=0.02) and s.mf_used == pytest.approx(0.8)
+
+    # kept in the .blend: the numbers, the images and the values a report is written from
+    path = tmp_path / "office.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(path))
+    mean = s.mean
+    bpy.ops.wm.open_mainfile(filepath=str(path))
+    wp = bpy.data.objects["Work Plane"]
+    s = wp.spectral_gi_lux
+    assert s.valid and s.mean == pytest.approx(mean, rel=1e-6) and s.n_points == 45
+    assert s.plan_image.packed_file is not None and s.report_image.packed_file is not None
+    assert _plan_pixels(s.plan_image)[3::4].max() == 1.0
+    bpy.context.view_layer.objects.active = wp
+    bpy.context.scene.spectral_gi_report_dir = str(tmp_path / "again")
+    monkeypatch.setattr(ops, "has_matplotlib", lambda: False)  # Blender's own Python: no matplotlib
+    assert bpy.ops.spectral_gi.lux_export_report() == {"FINISHED"}
+    again = tmp_path / "again" / "Work_Plane_lux"
+    assert sorted(p.name for p in again.parent.iterdir()) == ["Work_Plane_lux.csv", "Work_Plane_lux.json",
+                                                             "Work_Plane_lux_plan.png"]
+    assert json.loads(again.with_suffix(".json").read_text())["statistics"]["mean"] == pytest.approx(mean, rel=1e-6)
+    assert _png_size(again.with_name("Work_Plane_lux_plan.png")) == tuple(s.plan_image.size)
+
+
+def test_panels_show_the_result_and_the_progress(ext, bpy):
+    from unittest import mock
+
+    job_mod = importlib.import_module(ext.module.__name__ + ".addon.lux_job")
+    plane = open_floor(ext, bpy)
+    bpy.context.view_layer.objects.active = plane
+    assert bpy.ops.spectral_gi.lux_calculate() == {"FINISHED"}
+    labels, props, ops_used = [], [], []
+
+    def layout():
+        lay = mock.MagicMock()
+        for name in ("row", "column", "box", "split", "grid_flow"):
+            getattr(lay, name).return_value = lay
+
+        def prop(owner, name, **kw):
+            assert hasattr(owner, name), (owner, name)
+            props.append(name)
+        lay.prop.side_effect = prop
+        lay.label.side_effect = lambda text="", **kw: labels.append(text)
+        lay.operator.side_effect = lambda idname, **kw: ops_used.append(idname) or mock.MagicMock()
+        return lay
+
+    ctx = mock.MagicMock(object=plane, scene=bpy.context.scene)
+    bpy.types.SPECTRALGI_PT_lux.draw(mock.MagicMock(layout=layout()), ctx)
+    s = plane.spectral_gi_lux
+    assert f"{s.mean:.4g} lx" in labels and "4 × 4" in labels and "U0 = Emin/Ē" in labels
+    assert {"enabled", "samples", "maintenance_factor", "spectral_gi_workplane_height", "spectral_gi_use_band",
+            "spectral_gi_report_dir"} <= set(props)
+    assert {"spectral_gi.lux_calculate", "spectral_gi.lux_report", "spectral_gi.lux_show_image"} <= set(ops_used)
+    labels.clear()
+    bpy.types.SPECTRALGI_PT_lux_view3d.draw(mock.MagicMock(layout=layout()), bpy.context)
+    assert "Target" in labels and any(t.startswith(f"Ē {s.mean:.4g} lx") for t in labels)
+    job_mod.STATE.begin(100)  # as while a calculation runs
+    job_mod.STATE.done = 25
+    try:
+        labels.clear()
+        bpy.types.SPECTRALGI_PT_lux_view3d.draw(mock.MagicMock(layout=layout()), bpy.context)
+        assert any("25/100 samples" in t and "Esc to cancel" in t for t in labels)
+    finally:
+        job_mod.STATE.running = False
+
+
+def test_the_modal_operator_polls_the_worker_and_esc_cancels(ext, bpy, monkeypatch):
+    """The operator's modal steps (timer events while the worker thread runs, Esc), driven by hand: Blender
+    in the background sends no events."""
+    import threading
+    import time
+    from types import SimpleNamespace
+
+    ops = lux_ops(ext)
+    job_mod = importlib.import_module(ext.module.__name__ + ".addon.lux_job")
+    plane = open_floor(ext, bpy)
+    plane.spectral_gi_lux.samples = 64
+    bpy.context.view_layer.objects.active = plane
+    cls = ops.SPECTRALGI_OT_lux_calculate
+    reports = []
+
+    class Modal:  # the operator's own methods on a stand-in instance
+        modal, _cleanup, _conclude, _finish = cls.modal, cls._cleanup, cls._conclude, cls._finish
+
+        def __init__(self, job):
+            self._job, self._timer = job, None
+
+        def report(self, kind, text):
+            reports.append((set(kind), text))
+
+    timer = SimpleNamespace(type="TIMER", value="NOTHING")
+    esc = SimpleNamespace(type="ESC", value="PRESS")
+
+    def drive(op, before_each=None):
+        for _ in range(60000):
+            if before_each is not None:
+                before_each()
+            r = op.modal(bpy.context, timer)
+            if r != {"PASS_THROUGH"}:
+                return r
+            time.sleep(0.01)
+        raise AssertionError("the calculation did not finish")
+
+    job = ops.prepare_job(bpy.context, [plane])
+    job.start()
+    assert job.thread is not None and job_mod.busy() and not bpy.ops.spectral_gi.lux_report.poll()
+    assert drive(Modal(job)) == {"FINISHED"}
+    s = plane.spectral_gi_lux
+    assert s.valid and not job_mod.busy() and any("Ē" in text for _k, text in reports)
+    first = s.mean
+
+    # Esc while the worker waits after its first batch: nothing is stored
+    bpy.data.objects["Bulb"].data.spectral_gi.value = 2 * I_CD
+    go = threading.Event()
+    monkeypatch.setattr(job_mod.LuxJob, "on_progress", lambda self, done, total: go.wait(60))
+    job = ops.prepare_job(bpy.context, [plane])
+    job.start()
+    op = Modal(job)
+    assert op.modal(bpy.context, esc) == {"RUNNING_MODAL"} and job.cancel_requested
+    go.set()
+    assert drive(op) == {"CANCELLED"}
+    assert job.results == {} and s.mean == first and job_mod.STATE.phase == "Cancelled"
+    assert reports[-1][0] == {"WARNING"} and "earlier results are kept" in reports[-1][1]

@@ -184,3 +184,47 @@ def test_core_import_does_not_import_matplotlib():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, env=env)
     assert out.returncode == 0, out.stderr[-2000:]
     assert out.stdout.strip() == "False"
+
+
+def test_plan_image_of_an_l_shaped_work_plane():
+    # an L: 6 × 4 m less the 3 × 2 m corner at (3..6, 2..4); a 1 m grid, no band
+    floor = [(0, 0), (6, 0), (6, 2), (3, 2), (3, 4), (0, 4)]
+    s = workplane(floor, band=0.0, spacing=1.0)
+    assert s.grid_shape == (4, 6) and s.n_points == 18
+    e = s.points[:, 0] * 100.0 + s.points[:, 1]  # lx, distinct per cell
+    img = fc.plan_image(s, e, size=120, legend=False)
+    assert img.shape == (80, 120, 4) and img.dtype == np.float32
+    ppm = 20.0  # px per metre
+    want = fc.false_colour(e)
+    for (x, y, _z), c in zip(s.points, want):
+        px = img[int(80 - y * ppm), int(x * ppm)]  # the cell centre (rows top-to-bottom)
+        assert px[3] == 1.0
+        np.testing.assert_array_equal(px[:3], c.astype(np.float32))
+    assert img[10, 100, 3] == 0.0  # (5, 3.5) m: outside the L, transparent
+    assert np.allclose(img[0, 30, :3], 0.2)  # the outline along y = 4 m
+    with_bar = fc.plan_image(s, e, size=120)
+    bar = with_bar[:, -1, :3]
+    bands = fc.step_colours(fc.DEFAULT_STEPS)
+    np.testing.assert_array_equal(bar[-1], bands[0].astype(np.float32))  # lowest band at the bottom
+    np.testing.assert_array_equal(bar[0], bands[-1].astype(np.float32))
+    np.testing.assert_array_equal(with_bar[:, :120], img)
+    with pytest.raises(LuxError, match="18 lux values"):
+        fc.plan_image(s, e[:-1])
+    # with a 0.5 m band the plan still spans the room: the band transparent, the walls drawn
+    b = workplane(floor, band=0.5, spacing=1.0)
+    img = fc.plan_image(b, np.full(b.n_points, 100.0), size=120, legend=False)
+    assert img.shape == (80, 120, 4)
+    assert img[75, 5, 3] == 0.0 and img[40, 40, 3] == 1.0  # (0.25, 0.25) m in the band; (2, 2) m on the grid
+    assert np.allclose(img[40, 0, :3], 0.2) and img[40, 0, 3] == 1.0  # the wall x = 0
+
+
+def test_plan_image_of_mesh_face_points():
+    from spectral_gi.core.lux.grids import mesh_face_points
+
+    pos = np.array([[0, 0, 0], [2, 0, 0], [2, 1, 0], [0, 1, 0]], float)
+    s = mesh_face_points(pos, [[0, 1, 2], [0, 2, 3]])
+    img = fc.plan_image(s, [10.0, 20.0], size=64, legend=False)
+    want = fc.false_colour(np.array([10.0, 20.0]))
+    assert img[..., 3].max() == 1.0
+    colours = {tuple(p) for p in img[img[..., 3] > 0][:, :3].tolist()}
+    assert colours == {tuple(c) for c in want.astype(np.float32).tolist()}

@@ -4,13 +4,14 @@ The add-on and the command line use only the names in ``__all__``.
 """
 from . import constants
 from . import lux  # lighting analysis: calculation surfaces, grids, reports, false colour
+from .lux.schedule import luminaire_schedule
 from .io.atomic import atomic_path
 from .io.atomic import write_text as write_text_atomic
 from .film import Developed, Film, develop
 from .farm import Farm, FarmError  # render farms on Dask (imported when used)
 from .io.exr import read_channels as read_exr
 from .io.exr import write_render as write_exr
-from .io.png import write_png
+from .io.png import encode_png, write_png
 from .io.presets import load_cornell_box_data
 from .integrators.render import RenderStats, kernels_compiled, render
 from .scene import (
@@ -48,7 +49,7 @@ from .integrators.sensors import has_sensors, illuminance_image, illuminance_sta
 
 __all__ = [
     "Farm", "FarmError",
-    "constants", "lux", "atomic_path", "write_text_atomic",
+    "constants", "lux", "atomic_path", "write_text_atomic", "encode_png", "luminaire_schedule",
     "Scene", "Mesh", "Material", "Light", "Camera", "World", "RenderSettings", "SpectrumTable", "Medium",
     "SceneError", "validate", "load_scene", "save_scene",
     "reflectance_from_rgb", "emission_from_rgb", "reflectance_from_samples", "emission_from_samples",

@@ -238,15 +238,15 @@ def write_plan_png(path, img):
     """The plan image as an RGB PNG on white (NumPy and zlib only)."""
     import numpy as np
 
-    from ...core.io.atomic import write_bytes
-    from ...core.io.png import encode_png
+    from ...core import atomic_path, encode_png
 
     w, h = img.size
     a = np.empty(w * h * 4, np.float32)
     img.pixels.foreach_get(a)
     a = a.reshape(h, w, 4)[::-1]
     rgb = a[..., :3] * a[..., 3:] + (1.0 - a[..., 3:])
-    write_bytes(path, encode_png(np.round(np.clip(rgb, 0.0, 1.0) * 255.0).astype(np.uint8)))
+    with atomic_path(path) as tmp:
+        tmp.write_bytes(encode_png(np.round(np.clip(rgb, 0.0, 1.0) * 255.0).astype(np.uint8)))
 
 
 def has_matplotlib():
@@ -316,7 +316,7 @@ def _show(context, img):
 def prepare_job(context, objects):
     """Build the surfaces and export the scene (main thread); returns a LuxJob. Raises LuxInputError or the
     exporter's errors. The export's warning, if any, is in ``job.warning``."""
-    from ...core.lux.schedule import luminaire_schedule
+    from ...core import luminaire_schedule
     from .. import lux_job
     from ..export import export_scene
 

@@ -3,6 +3,7 @@ import importlib
 import importlib.util
 import math
 
+import numpy as np
 import pytest
 
 pytestmark = pytest.mark.blender

@@ -108,9 +108,42 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_USAGE, f"spectral-gi: error: {' '.join(message.split())} (see {self.prog} --help)\n")
 
 
+MKDIR_HELP = "create the output's folder if it does not exist (without it, a missing folder is an error)"
+
+
+def _version():
+    """The installed distribution's version, else the extension manifest's (a checkout or Blender)."""
+    from importlib import metadata
+
+    try:
+        return metadata.version("spectral-gi")
+    except metadata.PackageNotFoundError:
+        import tomllib
+
+        manifest = Path(__file__).resolve().parent / "blender_manifest.toml"
+        with open(manifest, "rb") as f:
+            return tomllib.load(f)["version"]
+
+
+def _out_folder(path, mkdir, option="--out"):
+    """Check, before any work, that the folder ``path`` is written into exists (or make it
+    with ``--mkdir``), so that a long render does not end in a missing folder."""
+    from .core.scene import SceneError
+
+    folder = Path(path).absolute().parent
+    if folder.is_dir():
+        return
+    if folder.exists():
+        raise SceneError(f"{option}: {folder} is not a folder")
+    if not mkdir:
+        raise SceneError(f"{option}: the folder {folder} does not exist (give --mkdir to create it)")
+    folder.mkdir(parents=True, exist_ok=True)
+
+
 def _parser():
     p = _Parser(prog="spectral-gi", description="Spectral path tracer with photometric output.")
-    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    p.add_argument("--version", action="version", version=f"spectral-gi {_version()}")
+    sub = p.add_subparsers(dest="command", parser_class=_Parser)
     r = sub.add_parser("render", help="render a scene file (default: the Cornell box) to OpenEXR + PNG")
     r.add_argument("scene", nargs="?", help="scene file (.json with its .npz beside it) or scene folder")
     r.add_argument("--builtin", choices=("cornell", "colorchecker"),
@@ -149,6 +182,7 @@ def _parser():
                         "up to the scene's spp, and write its image")
     r.add_argument("--out", help="output OpenEXR file (default: cornell.exr or <scene>.exr); "
                                  "the sRGB PNG preview is written beside it")
+    r.add_argument("--mkdir", action="store_true", help=MKDIR_HELP)
     r.add_argument("--spectral-bins", type=_spectral_bins, default=0,
                    help="also write the spectral radiance in this many bins of 360-830 nm as "
                         "S0.<wavelength>nm channels (Fichet et al. 2021 layout; default 0: off)")
@@ -158,6 +192,7 @@ def _parser():
                                             "OpenEXR + PNG, optionally compared with Cycles")
     b.add_argument("blend", help="the .blend file")
     b.add_argument("--out", help="output OpenEXR file (default: <blend name>.exr); the PNG is written beside it")
+    b.add_argument("--mkdir", action="store_true", help=MKDIR_HELP)
     b.add_argument("--spp", type=_positive_int, help="samples per pixel (default: the scene's Spectral GI setting)")
     b.add_argument("--compare-cycles", action="store_true",
                    help="also render with Cycles at matched settings and report luminance ratio, relative RMSE "
@@ -173,6 +208,7 @@ def _parser():
     lx.add_argument("--out", help="with --sensors: the results CSV (x,y,z,nx,ny,nz,lux,std_error; default: "
                                   "<points file>.csv); else the folder for each surface's CSV, JSON summary "
                                   "and report page (default: <scene>_lux)")
+    lx.add_argument("--mkdir", action="store_true", help=MKDIR_HELP)
     stop = lx.add_mutually_exclusive_group()
     stop.add_argument("--spp", type=_positive_int, default=256, help="samples per point (default 256)")
     stop.add_argument("--rel-error", type=_float_in(0.0, 1.0),
@@ -184,6 +220,7 @@ def _parser():
                     help="worker threads (0: all cores)")
     s = sub.add_parser("save-default-scene", help="write the built-in Cornell box as a scene file")
     s.add_argument("out", help="output scene file (.json; the .npz is written beside it)")
+    s.add_argument("--mkdir", action="store_true", help=MKDIR_HELP)
     return p
 
 
@@ -336,6 +373,7 @@ def _render(args, stop):
     out = Path(args.out or default_out)
     if out.suffix.lower() != ".exr":
         raise SceneError(f"--out: expected a .exr file name, got {out}")
+    _out_folder(out, args.mkdir)
     png = out.with_suffix(".png")
     resume = None
     bins = args.spectral_bins
@@ -430,8 +468,11 @@ def _lux(args):
 
     if args.sensors is None:
         stem = Path(args.scene).with_suffix("").name if args.scene else args.builtin
-        return _lux_surfaces(scene, estimate, done, Path(args.out or f"{stem}_lux"), stem, t0)
+        out_dir = Path(args.out or f"{stem}_lux")
+        _out_folder(out_dir, args.mkdir)
+        return _lux_surfaces(scene, estimate, done, out_dir, stem, t0)
     out = Path(args.out) if args.out else Path(args.sensors).with_suffix(".csv")
+    _out_folder(out, args.mkdir)
     lux, se = calculate_pts_file(estimate, scene, args.sensors, out)
     rel = np.where(lux > 0, se / np.where(lux > 0, lux, 1.0), 0.0)
     sys.stderr.write(f"{lux.size} points, {done['spp']} samples in {time.perf_counter() - t0:.1f} s; "
@@ -478,6 +519,8 @@ def _render_blend(args):
     imports), imported only when the command runs."""
     from .addon import headless
 
+    if args.out:
+        _out_folder(args.out, args.mkdir)
     try:
         return headless.main(args)
     except headless.HeadlessError as e:
@@ -500,9 +543,13 @@ def main(argv=None):
 
 
 def _main(argv, stop):
-    args = _parser().parse_args(argv)
+    parser = _parser()
+    args = parser.parse_args(argv)
     from .core.scene import SceneError
 
+    if args.command is None:  # bare ``spectral-gi``: what it can do
+        parser.print_help()
+        return EXIT_OK
     try:
         if args.command == "render":
             return _render(args, stop)
@@ -513,6 +560,7 @@ def _main(argv, stop):
         if args.command == "save-default-scene":
             from .core.scene import save
             from .core.scene.builtin import cornell_box
+            _out_folder(args.out, args.mkdir, "OUT")
             path = save(cornell_box(), args.out)
             print(f"wrote {path} and {path.with_suffix('.npz')}")
             return EXIT_OK

@@ -154,7 +154,8 @@ def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_
     progress(done_spp, total_spp, samples_per_second) after each pass;
     should_cancel() → True stops after the current pass (the film keeps what was done);
     on_pass(film) after each pass (for progressive display);
-    status(text) for phase messages ("Compiling kernels (first run only)", ...);
+    status(text) for phase messages ("Compiling kernels (first run only)" when numba's cache
+    lacks them, "Loading compiled kernels" otherwise, "Rendering");
     spectral_bins > 0 also records the spectral radiance in that many bins;
     resume: a Film of this scene (e.g. from Film.load) to continue from its spp up to the
     scene's; the result is bit-identical to rendering all samples at once (the Hammersley
@@ -250,7 +251,9 @@ def _render(scene, n_threads, say, helper, progress, should_cancel, on_pass, spe
             film = Film(cam.width, cam.height, spectral_bins, observer=scene.settings.observer)
         total = int(scene.settings.spp)
         if cold:
-            say("Compiling kernels (first run only)")
+            # numba's cache on disk holds the kernels unless this start had to compile them
+            say("Compiling kernels (first run only)" if helper is not None or not warmup.kernel_cached()
+                else "Loading compiled kernels")
             tc = time.perf_counter()
             # compile (or load from numba's cache) with a 1-sample pass on a scratch film
             if helper is not None:  # this process's share of the helpers, then the kernel

@@ -85,6 +85,43 @@ def test_bad_arguments_exit_2(tmp_path):
     assert r.returncode == 2 and ".exr" in r.stderr
 
 
+def test_version_and_bare_command(tmp_path):
+    from importlib import metadata
+
+    r = run(["--version"], tmp_path)
+    assert r.returncode == 0 and r.stdout.strip() == f"spectral-gi {metadata.version('spectral-gi')}"
+    r = run([], tmp_path)
+    assert r.returncode == 0 and r.stdout.startswith("usage: spectral-gi")
+    for command in ("render", "render-blend", "lux", "save-default-scene"):
+        assert command in r.stdout
+
+
+@pytest.mark.parametrize("args", [
+    ["render", "--spp", "1", "--out", "missing/box.exr"],
+    ["render-blend", "scene.blend", "--out", "missing/box.exr"],
+    ["lux", "--builtin", "cornell", "--sensors", "p.pts", "--out", "missing/lux.csv"],
+    ["lux", "--builtin", "cornell", "--out", "missing/deeper/lux"],
+    ["save-default-scene", "missing/scene.json"],
+])
+def test_output_in_a_missing_folder_is_an_error_before_any_work(tmp_path, args):
+    """A missing output folder is reported at once (not after the render); nothing is created."""
+    (tmp_path / "p.pts").write_text("0 0 0 0 1 0\n")
+    (tmp_path / "scene.blend").write_bytes(b"")
+    r = run(args, tmp_path)
+    assert r.returncode == 2, r.stderr
+    assert r.stderr.strip().splitlines() == [
+        f"spectral-gi: error: {args[0] == 'save-default-scene' and 'OUT' or '--out'}: the folder "
+        f"{tmp_path / 'missing' / ('deeper' if 'deeper' in args[-1] else '')}".rstrip("/")
+        + " does not exist (give --mkdir to create it)"]
+    assert not (tmp_path / "missing").exists()
+
+
+def test_mkdir_creates_the_output_folder(tmp_path):
+    r = run(["save-default-scene", "a/b/scene.json", "--mkdir"], tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert (tmp_path / "a" / "b" / "scene.json").is_file() and (tmp_path / "a" / "b" / "scene.npz").is_file()
+
+
 @pytest.mark.slow
 @pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
 def test_ctrl_c_stops_cleanly_and_writes_partial_result(tmp_path):

@@ -84,3 +84,20 @@ def test_finish_waits_for_the_second_process_but_not_forever():
     t = time.perf_counter()
     warmup.finish(stuck, 0.5)
     assert stuck.returncode not in (None, 0) and 0.4 < time.perf_counter() - t < 15.0  # stopped
+
+
+@pytest.mark.parametrize("on_disk, message", [(True, "Loading compiled kernels"),
+                                              (False, "Compiling kernels (first run only)")])
+def test_status_says_compiling_only_when_the_cache_lacks_the_kernels(rendered, monkeypatch, on_disk, message):
+    """A process whose kernels are not loaded yet says "Compiling" only when numba's cache
+    on disk does not hold them; otherwise it is loading them."""
+    from spectral_gi.core.integrators import render as render_module
+
+    monkeypatch.setattr(render_module, "kernels_compiled", lambda: False)
+    monkeypatch.setattr(warmup, "start", lambda: None)
+    monkeypatch.setattr(warmup, "kernel_cached", lambda: on_disk)
+    said = []
+    core.render(core.cornell_box(4, 4, spp=1), threads=1, status=said.append)
+    assert message in said
+    other = {"Loading compiled kernels", "Compiling kernels (first run only)"} - {message}
+    assert not other & set(said)

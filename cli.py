@@ -423,8 +423,11 @@ def _render(args, stop):
     if stats.stop_reason in ("time_limit", "noise_target"):
         sys.stderr.write(f"stopped at {stats.spp} of {st.spp} spp: {stats.stop_reason.replace('_', ' ')} reached "
                          f"(relative error {stats.relative_error:.3g})\n")
-    if stats.cancelled or stop.requested:
+    if stats.cancelled:
         sys.stderr.write(f"stopped early at {stats.spp} of {st.spp} spp\n")
+        return EXIT_INTERRUPTED
+    if stop.requested:
+        sys.stderr.write("interrupted while writing; the output is complete\n")
         return EXIT_INTERRUPTED
     return EXIT_OK
 

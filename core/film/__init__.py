@@ -188,7 +188,9 @@ class Film:
                     raise bad(str(e)) from None
                 spp = get("spp")
                 if spp.shape != () or spp.dtype.kind not in "iu" or not 0 <= int(spp) <= MAX_SPP:
-                    raise bad(f"spp: expected an integer in [0, {MAX_SPP}], got {spp!r}")
+                    got = f"{spp.item()!r}" if spp.shape == () and spp.dtype.kind in "biuf" else \
+                        f"an array of shape {spp.shape} and dtype {spp.dtype}"
+                    raise bad(f"spp: expected an integer in [0, {MAX_SPP}], got {got}")
                 sums = get("sums")
                 _check_film_array(bad, "sums", sums, (None, None, film_channels(observer)))
                 h, w = sums.shape[:2]

@@ -114,7 +114,7 @@ def test_mutated_scene_json_loads_or_names_the_field(tmp_path_factory, saved, da
         p = data.draw(st.sampled_from(paths))
         how = data.draw(st.sampled_from(["replace", "replace", "delete", "unknown key"]))
         if how == "replace":
-            _set(doc, p, data.draw(json_value))
+            _set(doc, p, copy.deepcopy(data.draw(json_value)))  # SPECIAL holds shared lists and dicts
         elif how == "delete":
             _set(doc, p, None, delete=True)
         else:
@@ -122,7 +122,7 @@ def test_mutated_scene_json_loads_or_names_the_field(tmp_path_factory, saved, da
             for k in p[:-1]:
                 parent = parent[k]
             if isinstance(parent, dict):
-                parent[data.draw(st.text(min_size=1, max_size=6))] = data.draw(json_value)
+                parent[data.draw(st.text(min_size=1, max_size=6))] = copy.deepcopy(data.draw(json_value))
     check_contract(_write(tmp_path_factory, saved, doc))
 
 

@@ -420,6 +420,11 @@ def _render(args, stop):
                      + (f", kernel compile {stats.compile_seconds:.1f} s" if stats.compile_seconds > 0.5 else "")
                      + f"); mean luminance {float(dev.luminance.mean()):.4g} cd/m²\n")
     print(f"wrote {out} and {png}")
+    import numpy as np
+
+    bad = int(np.count_nonzero(~np.isfinite(dev.luminance)))
+    if bad:  # validation bounds every input so that this cannot happen; if it does, it is not silent
+        sys.stderr.write(f"spectral-gi: warning: {bad} pixels are not finite (NaN or Inf) in {out}\n")
     if stats.stop_reason in ("time_limit", "noise_target"):
         sys.stderr.write(f"stopped at {stats.spp} of {st.spp} spp: {stats.stop_reason.replace('_', ' ')} reached "
                          f"(relative error {stats.relative_error:.3g})\n")
@@ -539,7 +544,7 @@ def main(argv=None):
     try:
         return _main(argv, stop)
     except KeyboardInterrupt:
-        sys.stderr.write("spectral-gi: interrupted; nothing written\n")
+        sys.stderr.write("spectral-gi: interrupted (no file is left half-written)\n")
         return EXIT_INTERRUPTED
     finally:
         stop.restore()

@@ -792,7 +792,10 @@ def save(scene: Scene, path) -> Path:
     data = buf.getvalue()
     doc["arrays"] = npz_path.name
     doc["arrays_sha256"] = hashlib.sha256(data).hexdigest()
-    text = json.dumps(doc, indent=1, allow_nan=False)
+    try:
+        text = json.dumps(doc, indent=1, allow_nan=False)
+    except (TypeError, ValueError, RecursionError) as e:  # only metadata is free-form
+        raise SceneError(f"metadata: cannot be written as JSON ({e})") from None
     with atomic_paths([npz_path, path]) as (tmp_npz, tmp_json):
         with open(tmp_npz, "wb") as f:
             fsync_write(f, data)

@@ -94,3 +94,12 @@ def test_the_render_checks_bins_memory_and_the_film_to_resume_before_it_starts()
         check_render_inputs(sc)
     with pytest.raises(S.SceneError, match="resume: expected a Film"):
         check_render_inputs(furnace_scene(), 0, resume="film.npz")
+
+
+@pytest.mark.parametrize("value", [float("nan"), object(), {1, 2}])
+def test_metadata_that_json_cannot_hold_is_refused_by_save(tmp_path, value):
+    sc = furnace_scene()
+    sc.metadata = {"x": value}
+    with pytest.raises(S.SceneError, match="metadata: cannot be written as JSON"):
+        S.save(sc, tmp_path / "s.json")
+    assert list(tmp_path.iterdir()) == []

@@ -50,8 +50,7 @@ def write_doc(tmp_path, doc, name="c.json"):
 
 # --------------------------------------------------------------------------- crashes → one line (subprocess)
 
-@pytest.mark.parametrize("scale", [1.4e154, 1e200])
-def test_a_camera_frame_that_overflows_is_refused_before_any_kernel(tmp_path, scene_doc, scale):
+def test_a_camera_frame_that_overflows_is_refused_before_any_kernel(tmp_path, scene_doc, scale=1.4e154):
     doc = copy.deepcopy(scene_doc)
     for k in range(3):
         doc["camera"]["to_world"][k] = [scale * x for x in doc["camera"]["to_world"][k][:3]] + \

@@ -54,24 +54,58 @@ class _Progress:
         self.stream.flush()
 
 
-def _positive_int(text):
-    try:
-        v = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
-    if v < 1:
-        raise argparse.ArgumentTypeError(f"expected a positive number, got {v}")
-    return v
+# Bounds of the numeric options (the scene's validation bounds what they set, these keep the
+# option itself readable): whole numbers, plain decimal or scientific reals, no ``1_0``, ``nan``.
+MAX_OPTION_INT = 1 << 32
+MAX_THREADS = 4096
+MAX_EXPOSURE = 64.0  # stops
 
 
-def _non_negative_int(text):
-    try:
-        v = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
-    if v < 0:
-        raise argparse.ArgumentTypeError(f"expected zero or more, got {v}")
-    return v
+def _int_in(lo, hi, what):
+    def parse(text):
+        from .core.io.strict import parse_int
+
+        try:
+            v = parse_int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+        if not lo <= v <= hi:
+            raise argparse.ArgumentTypeError(f"expected {what} in [{lo}, {hi}], got {v}")
+        return v
+
+    return parse
+
+
+def _float_in(lo, hi):
+    def parse(text):
+        from .core.io.strict import parse_float
+
+        try:
+            v = parse_float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}") from None
+        if not lo <= v <= hi:
+            raise argparse.ArgumentTypeError(f"expected a number in [{lo:g}, {hi:g}], got {v:g}")
+        return v
+
+    return parse
+
+
+_positive_int = _int_in(1, MAX_OPTION_INT, "a positive number")
+_non_negative_int = _int_in(0, MAX_OPTION_INT, "zero or more")
+
+
+def _spectral_bins(text):
+    from .core.film import MAX_SPECTRAL_BINS
+
+    return _int_in(0, MAX_SPECTRAL_BINS, "a number of bins (at most one per nanometre of 360-830 nm)")(text)
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one line for a usage error: ``spectral-gi render: error: ...`` (status 2)."""
+
+    def error(self, message):
+        self.exit(EXIT_USAGE, f"spectral-gi: error: {' '.join(message.split())} (see {self.prog} --help)\n")
 
 
 MKDIR_HELP = "create the output's folder if it does not exist (without it, a missing folder is an error)"
@@ -110,9 +144,9 @@ SCHEDULER_HELP = ("render on a Dask farm: tcp://host:8786 (a running scheduler) 
 
 
 def _parser():
-    p = argparse.ArgumentParser(prog="spectral-gi", description="Spectral path tracer with photometric output.")
+    p = _Parser(prog="spectral-gi", description="Spectral path tracer with photometric output.")
     p.add_argument("--version", action="version", version=f"spectral-gi {_version()}")
-    sub = p.add_subparsers(dest="command")
+    sub = p.add_subparsers(dest="command", parser_class=_Parser)
     r = sub.add_parser("render", help="render a scene file (default: the Cornell box) to OpenEXR + PNG")
     r.add_argument("scene", nargs="?", help="scene file (.json with its .npz beside it) or scene folder")
     r.add_argument("--builtin", choices=("cornell", "colorchecker"),
@@ -133,9 +167,9 @@ def _parser():
                         "points per pixel; or stratified: Sobol (0, 2) pixel positions with a per-pixel digital "
                         "shift and Owen-scrambled Sobol pairs for the other dimensions (default: the scene's, "
                         "stratified)")
-    r.add_argument("--time-limit", type=float, help="stop after this many seconds of rendering (default: the scene's; "
-                                                    "0: none)")
-    r.add_argument("--noise-target", type=float,
+    r.add_argument("--time-limit", type=_float_in(0.0, 1e9),
+                   help="stop after this many seconds of rendering (default: the scene's; 0: none)")
+    r.add_argument("--noise-target", type=_float_in(0.0, 1e6),
                    help="stop once the relative standard error of the image's mean luminance is at most this "
                         "(e.g. 0.002; default: the scene's; 0: none)")
     r.add_argument("--colour-space", "--color-space", dest="colour_space", choices=("rec709", "acescg", "xyz"),
@@ -144,14 +178,19 @@ def _parser():
     r.add_argument("--observer", choices=("1931", "1964"),
                    help="CIE standard observer of the film's XYZ: 1931 (2 degree) or 1964 (10 degree) "
                         "(default: the scene's, 1931); luminance always uses V(lambda)")
-    r.add_argument("--threads", type=_non_negative_int, default=0, help="worker threads (0: all cores)")
+    r.add_argument("--threads", type=_int_in(0, MAX_THREADS, "a thread count"), default=0,
+                   help="worker threads (0: all cores)")
+    r.add_argument("--resume", metavar="FILM.npz",
+                   help="continue from a film checkpoint (one a failed write kept) of the same scene and options, "
+                        "up to the scene's spp, and write its image")
     r.add_argument("--out", help="output OpenEXR file (default: cornell.exr or <scene>.exr); "
                                  "the sRGB PNG preview is written beside it")
     r.add_argument("--mkdir", action="store_true", help=MKDIR_HELP)
-    r.add_argument("--spectral-bins", type=_non_negative_int, default=0,
+    r.add_argument("--spectral-bins", type=_spectral_bins, default=0,
                    help="also write the spectral radiance in this many bins of 360-830 nm as "
                         "S0.<wavelength>nm channels (Fichet et al. 2021 layout; default 0: off)")
-    r.add_argument("--exposure", type=float, default=0.0, help="exposure of the PNG preview in stops (default 0)")
+    r.add_argument("--exposure", type=_float_in(-MAX_EXPOSURE, MAX_EXPOSURE), default=0.0,
+                   help="exposure of the PNG preview in stops (default 0)")
     r.add_argument("--scheduler", metavar="ADDRESS", help=SCHEDULER_HELP)
     r.add_argument("--batch-spp", type=_positive_int,
                    help="with --scheduler: samples per farm task, a multiple of 16 (default 16)")
@@ -184,12 +223,13 @@ def _parser():
     lx.add_argument("--mkdir", action="store_true", help=MKDIR_HELP)
     stop = lx.add_mutually_exclusive_group()
     stop.add_argument("--spp", type=_positive_int, default=256, help="samples per point (default 256)")
-    stop.add_argument("--rel-error", type=float,
+    stop.add_argument("--rel-error", type=_float_in(0.0, 1.0),
                       help="stop each point at this relative standard error (at most 4096 samples a point)")
     lx.add_argument("--max-depth", type=_non_negative_int,
                     help="bounces after the first (default: unlimited, Russian roulette ends paths without bias)")
     lx.add_argument("--seed", type=_non_negative_int, help="random seed (default: the scene's)")
-    lx.add_argument("--threads", type=_non_negative_int, default=0, help="worker threads (0: all cores)")
+    lx.add_argument("--threads", type=_int_in(0, MAX_THREADS, "a thread count"), default=0,
+                    help="worker threads (0: all cores)")
     lx.add_argument("--scheduler", metavar="ADDRESS", help=SCHEDULER_HELP + " (the points split across workers)")
     s = sub.add_parser("save-default-scene", help="write the built-in Cornell box as a scene file")
     s.add_argument("out", help="output scene file (.json; the .npz is written beside it)")
@@ -227,11 +267,73 @@ def _fail(msg, code=EXIT_USAGE):
     return code
 
 
-def _render(args):
+class _Stop:
+    """Ctrl-C (SIGINT) and SIGTERM. Before a render starts (start-up, reading the scene) and in
+    the other commands they interrupt at once (nothing is written, temporary files are
+    removed). While rendering (compiling included), the first stops the render after the
+    current pass and what was rendered is written; a second one quits at once. While the
+    output is written, signals wait for the write to finish (so a finished render is never
+    thrown away and no temporary file is left behind)."""
+
+    def __init__(self):
+        self.requested = False
+        self.mode = "raise"  # "raise", "cancel" (rendering) or "write"
+        self.old = {}
+
+    def install(self):
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            try:
+                self.old[sig] = signal.signal(sig, self)
+            except (ValueError, OSError):  # not the main thread, or no such signal here
+                pass
+        return self
+
+    def restore(self):
+        for sig, handler in self.old.items():
+            signal.signal(sig, handler)
+        self.old = {}
+
+    def __call__(self, signum, frame):
+        if self.mode == "raise":
+            raise KeyboardInterrupt
+        if self.mode == "write":
+            sys.stderr.write("\nInterrupted: the output is being written and will be complete\n")
+            self.requested = True
+            return
+        if self.requested:  # a second signal: leave at once
+            os._exit(EXIT_INTERRUPTED)
+        self.requested = True
+        sys.stderr.write("\nInterrupted: finishing the current pass and writing what was rendered "
+                         "(Ctrl-C again to quit at once)\n")
+
+
+def _keep_film(film, out):
+    """Save ``film`` as a checkpoint beside ``out``, else in a new folder of the temporary
+    folder; its path, or None when neither can be written."""
+    import tempfile
+
+    try:
+        return film.save(out.with_name(out.stem + ".film.npz"))
+    except Exception:
+        pass
+    try:
+        return film.save(Path(tempfile.mkdtemp(prefix="spectral-gi-")) / (out.stem + ".film.npz"))
+    except Exception:
+        return None
+
+
+def _resume_hint(args, out, kept):
+    scene = args.scene if args.scene else f"--builtin {args.builtin or 'cornell'}"
+    return f"spectral-gi render {scene} --resume {kept} --out {out} (with the same options)"
+
+
+def _render(args, stop):
     from .core import constants as C
+    from .core.film import Film
+    from .core.io.atomic import atomic_paths
     from .core.io.exr import write_render
     from .core.io.png import write_png
-    from .core.integrators.render import render
+    from .core.integrators.render import check_render_inputs, render
     from .core.scene import SceneError, load, validate
 
     from .core.scene.builtin import BUILTIN_SCENES
@@ -286,51 +388,83 @@ def _render(args):
         raise SceneError(f"--out: expected a .exr file name, got {out}")
     _out_folder(out, args.mkdir)
     png = out.with_suffix(".png")
-
-    stop = {"requested": False}
-
-    def on_sigint(signum, frame):
-        if stop["requested"]:  # second Ctrl-C: leave at once
-            os._exit(EXIT_INTERRUPTED)
-        stop["requested"] = True
-        sys.stderr.write("\nInterrupted: finishing the current pass and writing what was rendered "
-                         "(Ctrl-C again to quit at once)\n")
-
     resume = None
-    if args.checkpoint and Path(args.checkpoint).is_file():
-        from .core.film import Film
+    bins = args.spectral_bins
+    if args.resume:
+        try:
+            resume = Film.load(args.resume)
+        except ValueError as e:
+            raise SceneError(f"--resume: {e}") from None
+        if bins and bins != resume.spectral_bins:
+            raise SceneError(f"--spectral-bins {bins}: the film to resume has {resume.spectral_bins} spectral bins")
+        bins = 0
 
-        resume = Film.load(args.checkpoint)
-    old = signal.signal(signal.SIGINT, on_sigint)
+    if resume is None and args.checkpoint and Path(args.checkpoint).is_file():
+        try:
+            resume = Film.load(args.checkpoint)
+        except ValueError as e:
+            raise SceneError(f"--checkpoint: {e}") from None
+        if bins and bins != resume.spectral_bins:
+            raise SceneError(f"--spectral-bins {bins}: the checkpoint has {resume.spectral_bins} spectral bins")
+        bins = 0
+    check_render_inputs(scene, bins, resume)  # before anything is printed: one line if it fails
     bar = _Progress()
+    title = scene.metadata.get("name", args.scene or "scene")
+    title = title if isinstance(title, str) else str(args.scene or "scene")
+    bar.status(f"Rendering {title[:200]}: {cam.width}x{cam.height}, "
+               f"{st.spp} spp, max depth {st.max_depth}, {scene.n_triangles} triangles"
+               + (f", resuming at {resume.spp} spp" if resume is not None else ""))
+    stop.mode = "cancel"
+    film, stats = render(scene, threads=args.threads or None, progress=bar, status=bar.status,
+                         should_cancel=lambda: stop.requested, spectral_bins=bins, resume=resume,
+                         client=args.scheduler, batch_spp=args.batch_spp, checkpoint=args.checkpoint)
+    stop.mode = "write"  # from here on, a signal no longer cuts the write short
+    if stats.spp == 0:
+        sys.stderr.write("spectral-gi: interrupted before any sample was rendered; nothing written\n")
+        return EXIT_INTERRUPTED
     try:
-        bar.status(f"Rendering {scene.metadata.get('name', args.scene or 'scene')}: {cam.width}x{cam.height}, "
-                   f"{st.spp} spp, max depth {st.max_depth}, {scene.n_triangles} triangles"
-                   + (f", resuming at {resume.spp} spp from {args.checkpoint}" if resume is not None else ""))
-        film, stats = render(scene, threads=args.threads or None, progress=bar, status=bar.status,
-                             should_cancel=lambda: stop["requested"], spectral_bins=args.spectral_bins,
-                             client=args.scheduler, batch_spp=args.batch_spp, checkpoint=args.checkpoint,
-                             resume=resume)
-    finally:
-        signal.signal(signal.SIGINT, old)
-    dev = film.develop(white_balance=white_balance, colour_space=st.colour_space)
-    attrs = {"spectralgi.spp": str(stats.spp), "spectralgi.seed": str(st.seed),
-             "spectralgi.maxDepth": str(st.max_depth)}
-    spectral = (film.bin_centres(), film.spectral_radiance()) if film.spectral_bins else None
-    write_render(out, dev, attrs, spectral=spectral)
-    write_png(png, dev.rgb, args.exposure)
+        dev = film.develop(white_balance=white_balance, colour_space=st.colour_space)
+        attrs = {"spectralgi.spp": str(stats.spp), "spectralgi.seed": str(st.seed),
+                 "spectralgi.maxDepth": str(st.max_depth)}
+        spectral = (film.bin_centres(), film.spectral_radiance()) if film.spectral_bins else None
+        with atomic_paths([out, png]) as (tmp_exr, tmp_png):  # both files or neither
+            write_render(tmp_exr, dev, attrs, spectral=spectral)
+            write_png(tmp_png, dev.rgb, args.exposure)
+    except Exception as e:
+        kept = _keep_film(film, out)
+        why = _one_line(e)
+        if kept is None:
+            return _fail(f"cannot write {out} and {png.name} ({why}); the render could not be kept either",
+                         EXIT_ERROR)
+        return _fail(f"cannot write {out} and {png.name} ({why}); the rendered film ({stats.spp} spp) is kept "
+                     f"in {kept}: write it with {_resume_hint(args, out, kept)}", EXIT_ERROR)
     sys.stderr.write(f"{stats.spp} spp in {stats.seconds:.2f} s ({stats.samples_per_second / 1e6:.2f} M samples/s"
                      f"; BVH {stats.build_seconds:.2f} s"
                      + (f", kernel compile {stats.compile_seconds:.1f} s" if stats.compile_seconds > 0.5 else "")
                      + f"); mean luminance {float(dev.luminance.mean()):.4g} cd/m²\n")
     print(f"wrote {out} and {png}")
+    import numpy as np
+
+    bad = int(np.count_nonzero(~np.isfinite(dev.luminance)))
+    if bad:  # validation bounds every input so that this cannot happen; if it does, it is not silent
+        sys.stderr.write(f"spectral-gi: warning: {bad} pixels are not finite (NaN or Inf) in {out}\n")
     if stats.stop_reason in ("time_limit", "noise_target"):
         sys.stderr.write(f"stopped at {stats.spp} of {st.spp} spp: {stats.stop_reason.replace('_', ' ')} reached "
                          f"(relative error {stats.relative_error:.3g})\n")
     if stats.cancelled:
         sys.stderr.write(f"stopped early at {stats.spp} of {st.spp} spp\n")
         return EXIT_INTERRUPTED
+    if stop.requested:
+        sys.stderr.write("interrupted while writing; the output is complete\n")
+        return EXIT_INTERRUPTED
     return EXIT_OK
+
+
+def _one_line(e):
+    text = " ".join(str(e).split()) or type(e).__name__
+    if isinstance(e, OSError) and e.strerror:
+        text = e.strerror + (f": {e.filename}" if e.filename else "")
+    return text[:500]
 
 
 def _lux(args):
@@ -440,6 +574,19 @@ def _render_blend(args):
 
 
 def main(argv=None):
+    """Run the command line; every failure ends in one line on stderr and an exit status
+    (2 bad input, 1 a failed write or an internal error, 130 interrupted)."""
+    stop = _Stop().install()
+    try:
+        return _main(argv, stop)
+    except KeyboardInterrupt:
+        sys.stderr.write("spectral-gi: interrupted (no file is left half-written)\n")
+        return EXIT_INTERRUPTED
+    finally:
+        stop.restore()
+
+
+def _main(argv, stop):
     parser = _parser()
     args = parser.parse_args(argv)
     from .core.farm import FarmError
@@ -450,7 +597,7 @@ def main(argv=None):
         return EXIT_OK
     try:
         if args.command == "render":
-            return _render(args)
+            return _render(args, stop)
         if args.command == "render-blend":
             return _render_blend(args)
         if args.command == "lux":
@@ -463,11 +610,21 @@ def main(argv=None):
             print(f"wrote {path} and {path.with_suffix('.npz')}")
             return EXIT_OK
     except SceneError as e:
-        return _fail(str(e))
+        return _fail(_one_line(e))
     except FarmError as e:
         return _fail(" ".join(str(e).split()), EXIT_ERROR)
+    except MemoryError:
+        return _fail("not enough memory for this render (try a smaller resolution or fewer spectral bins)",
+                     EXIT_ERROR)
+    except RecursionError:
+        return _fail("the input nests too deeply", EXIT_USAGE)
     except (OSError, ValueError) as e:
-        return _fail(str(e), EXIT_ERROR if isinstance(e, OSError) else EXIT_USAGE)
+        return _fail(_one_line(e), EXIT_ERROR if isinstance(e, OSError) else EXIT_USAGE)
+    except Exception as e:  # an internal error: one line, the traceback only on request
+        if os.environ.get("SPECTRAL_GI_DEBUG"):
+            raise
+        return _fail(f"internal error ({type(e).__name__}: {_one_line(e)}); set SPECTRAL_GI_DEBUG=1 for the "
+                     "traceback", EXIT_ERROR)
     return EXIT_USAGE
 
 

@@ -298,41 +298,138 @@ class Film:
 
     @classmethod
     def load(cls, path):
-        """Read a film written by :meth:`save`; ValueError naming the problem otherwise."""
+        """Read a film written by :meth:`save`; ValueError naming the problem otherwise.
+
+        A checkpoint is validated as a scene is: each member has one type and shape (sums
+        (H, W, channels of its observer), aov (H, W, 9), spectral (1, 1, 0) or (H, W, B)
+        with 1 ≤ B ≤ MAX_SPECTRAL_BINS, all float64 and finite; spp an integer), its
+        resolution is at most 65536² and members are read only when needed, within the
+        size their header declares (core/io/npz.py)."""
+        from ..io.npz import NpzError, NpzReader
+
+        def bad(problem):
+            return ValueError(f"film {path}: {problem}")
+
         try:
-            with np.load(path, allow_pickle=False) as z:
-                data = {k: z[k] for k in z.files}
-        except Exception as e:  # OSError, zipfile.BadZipFile, ValueError
-            raise ValueError(f"film {path}: cannot read ({e})") from None
-        version = int(data.get("version", -1))
-        if str(data.get("format", "")) != FILM_FORMAT or version not in (1, 2, FILM_VERSION):
-            raise ValueError(f"film {path}: not a spectral-gi film of version 1 to {FILM_VERSION}")
-        sums, spectral, aov = data["sums"], data["spectral"], data["aov"]
-        if version == 1 and aov.ndim == 3 and aov.shape[2] == AOV_CHANNELS - 1:
-            aov = np.concatenate([aov, np.zeros(aov.shape[:2] + (1,))], axis=2)  # no transparent samples
-        try:  # films written before the observer setting are CIE 1931
-            observer = check_observer(str(data.get("observer", "1931")))
-        except ValueError as e:
-            raise ValueError(f"film {path}: {e}") from None
-        if sums.ndim != 3 or sums.shape[2] != film_channels(observer) or \
-                aov.shape != sums.shape[:2] + (AOV_CHANNELS,):
-            raise ValueError(f"film {path}: unexpected array shapes {sums.shape}, {aov.shape}")
-        f = cls(sums.shape[1], sums.shape[0], observer=observer)
-        f._sums = np.ascontiguousarray(sums, np.float64)
-        f._spectral = np.ascontiguousarray(spectral, np.float64)
-        f._aov = np.ascontiguousarray(aov, np.float64)
-        f.spp = int(data["spp"])
-        if "tail_sums" in data:
-            t = cls(f.width, f.height, observer=observer)
-            t._sums = np.ascontiguousarray(data["tail_sums"], np.float64)
-            t._spectral = np.ascontiguousarray(data["tail_spectral"], np.float64)
-            t._aov = np.ascontiguousarray(data["tail_aov"], np.float64)
-            n = int(data["tail_spp"])
-            if t._sums.shape != f._sums.shape or t._spectral.shape != f._spectral.shape or \
-                    t._aov.shape != f._aov.shape or not 0 < n <= min(f.spp, CHUNK_SPP):
-                raise ValueError(f"film {path}: its incomplete chunk does not match the film")
-            f._tail, f.tail_spp = t, n
+            with NpzReader(path) as z:
+                def get(key):
+                    if key not in z:
+                        raise bad(f"{key}: missing")
+                    return z.get(key)
+
+                fmt = _npz_text(z, "format")
+                version = get("version")
+                if fmt != FILM_FORMAT or version.shape != () or version.dtype.kind not in "iu" or \
+                        int(version) not in (1, 2, FILM_VERSION):
+                    raise bad(f"not a spectral-gi film of version 1 to {FILM_VERSION}")
+                version = int(version)
+                observer = _npz_text(z, "observer") if "observer" in z else "1931"  # older films: CIE 1931
+                try:
+                    observer = check_observer(observer)
+                except ValueError as e:
+                    raise bad(str(e)) from None
+                spp = get("spp")
+                if spp.shape != () or spp.dtype.kind not in "iu" or not 0 <= int(spp) <= MAX_SPP:
+                    got = f"{spp.item()!r}" if spp.shape == () and spp.dtype.kind in "biuf" else \
+                        f"an array of shape {spp.shape} and dtype {spp.dtype}"
+                    raise bad(f"spp: expected an integer in [0, {MAX_SPP}], got {got}")
+                sums = get("sums")
+                _check_film_array(bad, "sums", sums, (None, None, film_channels(observer)))
+                h, w = sums.shape[:2]
+                if not (1 <= h <= MAX_RESOLUTION and 1 <= w <= MAX_RESOLUTION):
+                    raise bad(f"sums: a {w}x{h} film (each side 1 to {MAX_RESOLUTION})")
+                aov = get("aov")
+                if version == 1 and aov.ndim == 3 and aov.shape[2] == AOV_CHANNELS - 1:
+                    aov = np.concatenate([aov, np.zeros(aov.shape[:2] + (1,))], axis=2)  # no transparent samples
+                _check_film_array(bad, "aov", aov, (h, w, AOV_CHANNELS))
+                spectral = get("spectral")
+                if spectral.shape != (1, 1, 0):
+                    _check_film_array(bad, "spectral", spectral, (h, w, None))
+                    if not 1 <= spectral.shape[2] <= MAX_SPECTRAL_BINS:
+                        raise bad(f"spectral: {spectral.shape[2]} bins (1 to {MAX_SPECTRAL_BINS})")
+                elif spectral.dtype != np.float64:
+                    raise bad(f"spectral: expected float64, got {spectral.dtype}")
+                tail = None
+                if "tail_sums" in z:  # the incomplete chunk, summed apart (see the class)
+                    n = get("tail_spp")
+                    if n.shape != () or n.dtype.kind not in "iu" or not 0 < int(n) <= min(int(spp), CHUNK_SPP):
+                        raise bad(f"tail_spp: expected an integer in [1, min(spp, {CHUNK_SPP})]")
+                    tail = [int(n)]
+                    for key, a in (("tail_sums", sums), ("tail_spectral", spectral), ("tail_aov", aov)):
+                        t = get(key)
+                        _check_film_array(bad, key, t, a.shape)
+                        tail.append(t)
+        except NpzError as e:
+            raise bad(str(e)) from None
+        def film(arrays):
+            g = cls(1, 1, observer=observer)  # arrays of its own replaced below: no allocation at full size
+            g.width, g.height = int(w), int(h)
+            g._sums, g._spectral, g._aov = (np.ascontiguousarray(x, np.float64) for x in arrays)
+            return g
+
+        f = film((sums, spectral, aov))
+        f.spp = int(spp)
+        if tail is not None:
+            f._tail, f.tail_spp = film(tail[1:]), tail[0]
         return f
+
+
+MAX_SPP = 1 << 24  # as RenderSettings.spp
+MAX_RESOLUTION = 65536  # pixels a side, as Camera.width / height
+MAX_SPECTRAL_BINS = C.N_LAMBDA  # one bin per nanometre of the renderer's grid
+
+
+def _npz_text(z, key):
+    """A string member (format, observer) of a film archive, or '' when it is not one."""
+    if key not in z:
+        return ""
+    from ..io.npz import NpzError
+
+    try:
+        with z.zf.open(z.names[key]) as fh:
+            version = np.lib.format.read_magic(fh)
+            shape, _, dtype = (np.lib.format.read_array_header_1_0(fh) if version == (1, 0)
+                               else np.lib.format.read_array_header_2_0(fh))
+            if dtype.kind != "U" or shape != () or dtype.itemsize > 4 * 64:
+                return ""
+            return np.frombuffer(fh.read(dtype.itemsize), dtype=dtype, count=1)[0].item()
+    except (NpzError, ValueError, OSError, EOFError) as e:
+        raise NpzError(f"member {key!r}: cannot read ({e})") from None
+    except Exception as e:  # zlib.error, zipfile.BadZipFile
+        raise NpzError(f"member {key!r}: cannot read ({type(e).__name__}: {e})") from None
+
+
+def _check_film_array(bad, name, a, shape):
+    if a.dtype != np.float64:
+        raise bad(f"{name}: expected float64, got {a.dtype}")
+    if a.ndim != len(shape) or any(s is not None and s != d for s, d in zip(shape, a.shape)):
+        want = "(" + ", ".join("N" if s is None else str(s) for s in shape) + ")"
+        raise bad(f"{name}: expected shape {want}, got {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise bad(f"{name}: contains NaN or Inf")
+
+
+def check_film(film, width, height, observer, where="film"):
+    """Raise ValueError unless ``film`` is a Film whose arrays the path kernel may add to for a
+    ``width`` × ``height`` render with ``observer`` (shapes, dtypes, contiguity)."""
+    if not isinstance(film, Film):
+        raise ValueError(f"{where}: expected a Film, got {type(film).__name__}")
+    if (film.width, film.height) != (width, height):
+        raise ValueError(f"{where}: the film is {film.width}x{film.height}, the scene renders {width}x{height}")
+    if film.observer != observer:
+        raise ValueError(f"{where}: the film was rendered with the CIE {film.observer} observer, the scene asks "
+                         f"for {observer}")
+    for name, a, shape in (("sums", film.sums, (height, width, film_channels(observer))),
+                           ("aov", film.aov, (height, width, AOV_CHANNELS))):
+        if not isinstance(a, np.ndarray) or a.dtype != np.float64 or a.shape != shape or not a.flags.c_contiguous:
+            raise ValueError(f"{where}: {name} must be a C-contiguous float64 array of shape {shape}")
+    sp = film.spectral
+    if not isinstance(sp, np.ndarray) or sp.dtype != np.float64 or sp.ndim != 3 or not sp.flags.c_contiguous or \
+            not (sp.shape == (1, 1, 0) or (sp.shape[:2] == (height, width) and 1 <= sp.shape[2] <= MAX_SPECTRAL_BINS)):
+        raise ValueError(f"{where}: spectral must be a C-contiguous float64 array of shape (1, 1, 0) or "
+                         f"({height}, {width}, B) with 1 ≤ B ≤ {MAX_SPECTRAL_BINS}")
+    if isinstance(film.spp, bool) or not isinstance(film.spp, (int, np.integer)) or not 0 <= film.spp <= MAX_SPP:
+        raise ValueError(f"{where}: spp must be an integer in [0, {MAX_SPP}], got {film.spp!r}")
 
 
 @dataclass

@@ -209,6 +209,8 @@ def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_
     CHECKPOINT_SECONDS here, and at the end (pass it back as ``resume`` to go on).
     Returns (film, RenderStats).
     """
+    validate(scene)
+    check_render_inputs(scene, spectral_bins, resume)
     if client is not None:
         from ..farm import render_farm
 
@@ -225,6 +227,58 @@ def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_
                        measure, checkpoint)
     finally:
         warmup.finish(helper)
+
+
+def physical_memory():
+    """Bytes of physical memory of this machine, or None where the system does not say."""
+    try:
+        return int(os.sysconf("SC_PAGE_SIZE")) * int(os.sysconf("SC_PHYS_PAGES"))
+    except (AttributeError, ValueError, OSError):
+        return None
+
+
+def memory_needed(scene, spectral_bins=0):
+    """An estimate (bytes) of the memory a render of ``scene`` needs beyond the scene itself:
+    the film (sums, AOVs, spectral bins, float64), its development and the EXR's float32
+    channels, and the BVH and kernel records (a few hundred bytes a triangle)."""
+    from ..film import AOV_CHANNELS, film_channels
+
+    pixels = int(scene.camera.width) * int(scene.camera.height)
+    bins = int(spectral_bins)
+    film = 8 * (film_channels(scene.settings.observer) + AOV_CHANNELS + bins)
+    develop = 8 * 48 + 4 * (24 + bins)
+    texels = sum(int(t.image.size) for t in scene.textures)
+    if scene.world.image is not None:
+        texels += int(scene.world.image.size)
+    return pixels * (film + develop) + 400 * scene.n_triangles + 16 * texels
+
+
+def check_render_inputs(scene, spectral_bins=0, resume=None):
+    """Raise SceneError (naming the input) unless a render of the validated ``scene`` with
+    ``spectral_bins`` and ``resume`` can run: the bins within what the spectral EXR layout
+    stores (one per nanometre of the grid), the resumed film shaped for this scene, and the
+    memory the render needs within this machine's physical memory."""
+    from ..film import MAX_SPECTRAL_BINS, check_film
+
+    if isinstance(spectral_bins, bool) or not isinstance(spectral_bins, (int, np.integer)) or \
+            not 0 <= spectral_bins <= MAX_SPECTRAL_BINS:
+        raise SceneError(f"spectral_bins: expected an integer in [0, {MAX_SPECTRAL_BINS}] (one bin per nanometre "
+                         f"of 360-830 nm at most), got {spectral_bins!r}")
+    if resume is not None:
+        try:
+            check_film(resume, scene.camera.width, scene.camera.height, scene.settings.observer, "resume")
+        except ValueError as e:
+            raise SceneError(str(e)) from None
+        if resume.spp > scene.settings.spp:
+            raise SceneError(f"resume: the film already has {resume.spp} spp, more than settings.spp = "
+                             f"{scene.settings.spp}")
+        spectral_bins = resume.spectral_bins
+    need = memory_needed(scene, spectral_bins)
+    have = physical_memory()
+    if have is not None and need > have:
+        raise SceneError(f"camera.width x camera.height: a {scene.camera.width}x{scene.camera.height} render"
+                         + (f" with {spectral_bins} spectral bins" if spectral_bins else "")
+                         + f" needs about {need / 2**30:.1f} GiB, more than this machine's {have / 2**30:.1f} GiB")
 
 
 def _render(scene, n_threads, say, helper, progress, should_cancel, on_pass, spectral_bins, resume, measure,

@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import constants as C
+from .strict import is_number_text
 from ..spectra.uplift import emission_from_samples, reflectance_from_samples
 
 VISIBLE = (380.0, 780.0)  # nm the file must cover
@@ -61,11 +62,14 @@ class SpectrumFile:
         return C.SPECTRUM_BOUNDED if self.kind == "reflectance" else C.SPECTRUM_UNBOUNDED
 
 
+MAX_FILE_BYTES = 1 << 24  # 16 MiB: far above any tabulated spectrum
+
+
 def _number(text):
-    try:
-        return float(text)
-    except ValueError:
+    """A plain decimal number (no ``1_0``, ``nan`` or ``inf`` spellings), or None."""
+    if not is_number_text(text):
         return None
+    return float(text)
 
 
 def parse_spectrum_text(text, name="<text>", kind="reflectance"):
@@ -139,6 +143,9 @@ def load_spectrum_file(path, kind="reflectance"):
     if not p.is_file():
         raise SpectrumFileError(f"{p}: no such file")
     try:
+        if p.stat().st_size > MAX_FILE_BYTES:
+            raise SpectrumFileError(f"{p}: {p.stat().st_size} bytes, more than a spectrum file holds "
+                                    f"({MAX_FILE_BYTES})")
         text = p.read_bytes().decode("utf-8")
     except UnicodeDecodeError:
         try:

@@ -340,9 +340,11 @@ def env_lookup(dist, par, w, h, dx, dy, dz):
     u = 0.5 - math.atan2(y, x) / TWO_PI
     if u >= 1.0:
         u -= 1.0
-    if u < 0.0:
+    if not u >= 0.0:  # also NaN (a non-finite direction): never an index out of the image
         u = 0.0
     v = math.acos(z) / math.pi
+    if not v >= 0.0:
+        v = 0.0
     i = min(int(u * w), w - 1)
     j = min(int(v * h), h - 1)
     sin_t = math.sqrt(max(0.0, 1.0 - z * z))

@@ -41,6 +41,8 @@ from pathlib import Path
 
 import numpy as np
 from ..scene import Profile
+from ..scene.checks import MAX_PHOTOMETRIC
+from ..io.strict import is_number_text
 from ..io.presets import PRESETS_DIR
 
 PROFILE_SUFFIXES = (".ies", ".ldt")
@@ -54,11 +56,19 @@ def _fail(path, problem):
     raise PhotometricError(f"{path}: {problem}")
 
 
+MAX_FILE_BYTES = 1 << 24  # 16 MiB: far above any photometric file
+
+
 def _read_text(path):
     path = Path(path)
     if not path.is_file():
         _fail(path, "no such file")
-    data = path.read_bytes()
+    try:
+        if path.stat().st_size > MAX_FILE_BYTES:
+            _fail(path, f"{path.stat().st_size} bytes, more than a photometric file holds ({MAX_FILE_BYTES})")
+        data = path.read_bytes()
+    except OSError as e:
+        _fail(path, f"cannot read ({e.strerror or e})")
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError:
@@ -66,10 +76,9 @@ def _read_text(path):
 
 
 def _number(path, tok, what):
-    try:
-        v = float(tok)
-    except ValueError:
-        _fail(path, f"{what}: {tok!r} is not a number")
+    if not is_number_text(tok):
+        _fail(path, f"{what}: {tok[:40]!r} is not a number")
+    v = float(tok)
     if not math.isfinite(v):
         _fail(path, f"{what}: {tok!r} is not a finite number")
     return v
@@ -132,9 +141,12 @@ def _check_theta(path, theta):
 
 def _check_candela(path, table):
     if not np.all(np.isfinite(table)):
-        _fail(path, "candela values contain NaN or Inf")
+        _fail(path, "candela values contain NaN or Inf (after the file's multipliers)")
     if table.size and table.min() < 0.0:
         _fail(path, f"negative candela value {table.min():g}")
+    if table.size and table.max() > MAX_PHOTOMETRIC:
+        _fail(path, f"a luminous intensity of {table.max():.3g} cd (after the file's multipliers; at most "
+                    f"{MAX_PHOTOMETRIC:g})")
     return table
 
 
@@ -218,7 +230,11 @@ def read_ies(path):
     factor = multiplier * ballast * (fifth if version in ("LM-63-1986", "LM-63-1991", "LM-63-1995") else 1.0)
     if not factor > 0.0:
         _fail(path, f"candela multiplier × ballast factor must be positive, got {factor:g}")
-    table = _check_candela(path, vals.reshape(n_h, n_v)) * factor
+    with np.errstate(over="ignore", invalid="ignore"):
+        table = _check_candela(path, vals.reshape(n_h, n_v)) * factor
+    table = _check_candela(path, table)
+    if not math.isfinite(lumens * n_lamps):
+        _fail(path, "the lamps' luminous flux (lumens per lamp × number of lamps) overflows")
     phi, table = expand_symmetry(path, c, table)
     return {"format": "IES " + version, "theta": theta, "phi": phi, "candela": _check_candela(path, table),
             "lamp_lumens": None if lumens < 0 else lumens * n_lamps, "absolute": lumens < 0,
@@ -246,10 +262,10 @@ def read_ldt(path):
     def num(what):
         k = pos[0] + 1
         s = line(what)
-        try:
-            v = float(s.replace(",", "."))
-        except ValueError:
-            _fail(path, f"line {k}, {what}: {s!r} is not a number")
+        t = s.replace(",", ".")
+        if not is_number_text(t):
+            _fail(path, f"line {k}, {what}: {s[:40]!r} is not a number")
+        v = float(t)
         if not math.isfinite(v):
             _fail(path, f"line {k}, {what}: {s!r} is not a finite number")
         return v
@@ -315,7 +331,11 @@ def read_ldt(path):
         factor = cfli * flux / 1000.0
     if not factor > 0.0:
         _fail(path, f"conversion factor CFLI must be positive, got {cfli:g}")
-    table = _check_candela(path, vals.reshape(planes.size, ng)) * factor
+    with np.errstate(over="ignore", invalid="ignore"):
+        table = _check_candela(path, vals.reshape(planes.size, ng)) * factor
+    table = _check_candela(path, table)
+    if not math.isfinite(flux):
+        _fail(path, "the lamps' total luminous flux overflows")
     if isym == 0:  # all planes below 360°: close the circle
         planes, table = np.concatenate([planes, [360.0]]), np.concatenate([table, table[:1]])
     phi, table = expand_symmetry(path, planes, table)

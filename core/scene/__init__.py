@@ -15,6 +15,7 @@ brightness.
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import io
 import json
 import math
@@ -24,10 +25,14 @@ from pathlib import Path
 import numpy as np
 
 from .. import constants as C
-from ..io.atomic import atomic_path, write_text
+from ..io.atomic import atomic_paths, fsync_write
+from ..io.npz import NpzError, NpzReader
 from .checks import SceneError
+from .checks import MAX_COORDINATE, MAX_PHOTOMETRIC, MIN_LENGTH
 from .checks import check_array as _check_array
+from .checks import check_bool as _check_bool
 from .checks import check_number as _check_number
+from .checks import check_str as _check_str
 from .checks import check_vec3 as _check_vec3
 from .checks import fail as _fail
 from ..lux.grids import CalculationSurface
@@ -318,6 +323,8 @@ class Scene:
 
 # --------------------------------------------------------------------------- validation
 
+MAX_UV = 1e6  # largest texture coordinate magnitude (the lookups scale it by the texture size)
+
 
 def validate(scene: Scene) -> Scene:
     """Check every field of ``scene``; raise SceneError naming the first bad one."""
@@ -327,6 +334,13 @@ def validate(scene: Scene) -> Scene:
         _fail("version", f"unknown scene format version {scene.version!r} "
                          f"(this build reads version {C.SCENE_FORMAT_VERSION})")
 
+    if not isinstance(scene.metadata, dict):
+        _fail("metadata", f"expected a dict, got {type(scene.metadata).__name__}")
+    for key in ("meshes", "materials", "lights", "media", "textures", "profiles"):
+        if not isinstance(getattr(scene, key), list):
+            _fail(key, f"expected a list, got {type(getattr(scene, key)).__name__}")
+        for i, rec in enumerate(getattr(scene, key)):
+            _check_str(f"{key}[{i}].name", getattr(rec, "name", None))
     _validate_spectra(scene)
     spec_ref = _spectrum_reference(scene)
     _validate_media(scene)
@@ -345,6 +359,10 @@ def validate(scene: Scene) -> Scene:
 def _validate_spectra(scene):
 
     sp = scene.spectra
+    if not isinstance(sp.names, list):
+        _fail("spectra.names", f"expected a list, got {type(sp.names).__name__}")
+    for i, name in enumerate(sp.names):
+        _check_str(f"spectra.names[{i}]", name)
     n_spec = len(sp)
     _check_array("spectra.coeffs", sp.coeffs, np.float64, (n_spec, None))
     _check_array("spectra.kind", sp.kind, np.int32, (n_spec,))
@@ -408,7 +426,9 @@ def _validate_materials(scene, spec_ref):
         spec_ref(f"{nm}.reflectance", m.reflectance, C.SPECTRUM_BOUNDED)
         spec_ref(f"{nm}.specular", m.specular, C.SPECTRUM_BOUNDED)
         spec_ref(f"{nm}.emission", m.emission, C.SPECTRUM_UNBOUNDED)
-        _check_number(f"{nm}.emission_luminance", m.emission_luminance, lo=0.0)
+        _check_number(f"{nm}.model", m.model, integer=True)
+        _check_number(f"{nm}.emission_luminance", m.emission_luminance, lo=0.0, hi=MAX_PHOTOMETRIC)
+        _check_bool(f"{nm}.two_sided", m.two_sided)
         _check_number(f"{nm}.ior", m.ior, lo=1e-3, hi=100.0)
         for key in ("eta_table", "kappa_table"):
             idx = getattr(m, key)
@@ -423,11 +443,26 @@ def _validate_materials(scene, spec_ref):
         if m.model == C.MAT_NULL and m.emission != -1 and m.emission_luminance > 0.0:
             _fail(f"{nm}.emission", "a null surface (model MAT_NULL) cannot emit")
         if m.params is not None:
-            row = np.asarray(m.params, dtype=np.float64) if not isinstance(m.params, np.ndarray) else m.params
+            if isinstance(m.params, np.ndarray):
+                row = m.params
+                if row.dtype.kind not in "iuf":
+                    _fail(f"{nm}.params", f"expected numbers, got an array of dtype {row.dtype}")
+            else:
+                if not isinstance(m.params, (list, tuple)) or any(
+                        isinstance(x, (bool, np.bool_)) or not isinstance(x, (int, float, np.integer, np.floating))
+                        for x in m.params):
+                    _fail(f"{nm}.params", f"expected a list of at most {C.MATERIAL_PARAMS} numbers, "
+                                          f"got {type(m.params).__name__}")
+                try:
+                    row = np.asarray(m.params, dtype=np.float64)
+                except (OverflowError, ValueError):
+                    _fail(f"{nm}.params", "a number out of range")
             if row.ndim != 1 or row.size > C.MATERIAL_PARAMS:
                 _fail(f"{nm}.params", f"expected at most {C.MATERIAL_PARAMS} numbers, got shape {row.shape}")
             if not np.all(np.isfinite(row)):
                 _fail(f"{nm}.params", "contains NaN or Inf")
+            if row.size and np.abs(row).max() > 1e9:
+                _fail(f"{nm}.params", f"a parameter of magnitude {np.abs(row).max():.3g} (at most 1e9)")
         if m.model in (C.MAT_MIX, C.MAT_ADD):
             row = list(m.params or [])
             if len(row) < 3:
@@ -459,6 +494,9 @@ def _validate_meshes(scene):
     for i, mesh in enumerate(scene.meshes):
         nm = f"meshes[{i}] ({mesh.name!r})"
         _check_array(f"{nm}.positions", mesh.positions, np.float32, (None, 3))
+        if mesh.positions.size and np.abs(mesh.positions).max() > MAX_COORDINATE:
+            _fail(f"{nm}.positions", f"a coordinate of magnitude {np.abs(mesh.positions).max():.3g} m "
+                                     f"(at most {MAX_COORDINATE:g})")
         n_v = mesh.positions.shape[0]
         _check_array(f"{nm}.indices", mesh.indices, np.int32, (None, 3))
         n_t = mesh.indices.shape[0]
@@ -471,8 +509,13 @@ def _validate_meshes(scene):
             _fail(f"{nm}.material", f"material index {bad} out of range [0, {n_mat})")
         if mesh.normals is not None:
             _check_array(f"{nm}.normals", mesh.normals, np.float32, (n_v, 3))
-        if mesh.uvs is not None:
-            _check_array(f"{nm}.uvs", mesh.uvs, np.float32, (n_v, 2))
+        for key, shape in (("uvs", (n_v, 2)), ("corner_uvs", (3 * n_t, 2))):
+            a = getattr(mesh, key)
+            if a is not None:
+                _check_array(f"{nm}.{key}", a, np.float32, shape)
+                if a.size and np.abs(a).max() > MAX_UV:
+                    _fail(f"{nm}.{key}", f"a texture coordinate of magnitude {np.abs(a).max():.3g} "
+                                         f"(at most {MAX_UV:g})")
         for key in ("sensor", "holdout"):
             if not isinstance(getattr(mesh, key), (bool, np.bool_)):
                 _fail(f"{nm}.{key}", f"expected true or false, got {getattr(mesh, key)!r}")
@@ -492,31 +535,39 @@ def _validate_profiles(scene):
             _fail(f"{nm}.phi", "expected ascending angles from 0 to 360 degrees (symmetries expanded)")
         if pr.candela.size and pr.candela.min() < 0.0:
             _fail(f"{nm}.candela", "negative intensity")
+        if pr.candela.size and pr.candela.max() > MAX_PHOTOMETRIC:
+            _fail(f"{nm}.candela", f"an intensity of {pr.candela.max():.3g} cd (at most {MAX_PHOTOMETRIC:g})")
+        _check_str(f"{nm}.source", pr.source, max_len=1 << 16)
 
 
 def _validate_lights(scene, spec_ref):
     n_prof = len(scene.profiles)
     for i, li in enumerate(scene.lights):
         nm = f"lights[{i}] ({li.name!r})"
-        if isinstance(li.kind, bool) or li.kind not in C.LIGHT_KINDS:
+        _check_number(f"{nm}.kind", li.kind, integer=True)
+        if li.kind not in C.LIGHT_KINDS:
             _fail(f"{nm}.kind", f"unknown light kind {li.kind} (0 rect, 1 ellipse, 2 point, 3 spot, 4 sun)")
         _check_vec3(f"{nm}.position", li.position)
-        u = _check_vec3(f"{nm}.axis_u", li.axis_u)
-        v = _check_vec3(f"{nm}.axis_v", li.axis_v)
+        u = _check_vec3(f"{nm}.axis_u", li.axis_u, hi=1e6)
+        v = _check_vec3(f"{nm}.axis_v", li.axis_v, hi=1e6)
         spec_ref(f"{nm}.spectrum", li.spectrum, C.SPECTRUM_UNBOUNDED, allow_none=False)
+        _check_bool(f"{nm}.two_sided", li.two_sided)
+        _check_bool(f"{nm}.visible", li.visible)
         if li.kind in (C.LIGHT_RECT, C.LIGHT_ELLIPSE):
-            if np.linalg.norm(np.cross(u, v)) <= 0.0:
-                _fail(f"{nm}.axis_u", "the light's axes span no area")
-            _check_number(f"{nm}.luminance", li.luminance, lo=0.0)
+            area = float(np.linalg.norm(np.cross(u, v)))
+            if not area > MIN_LENGTH * MIN_LENGTH * 1e6:
+                _fail(f"{nm}.axis_u", f"the light's axes span no area (|axis_u × axis_v| = {area:.3g} m²)")
+            _check_number(f"{nm}.luminance", li.luminance, lo=0.0, hi=MAX_PHOTOMETRIC)
         else:
             _check_number(f"{nm}.luminance", li.luminance)  # unused by point, spot and sun lights
         if li.kind in (C.LIGHT_POINT, C.LIGHT_SPOT):
             _check_number(f"{nm}.radius", li.radius, lo=0.0, hi=1e6)
-            _check_number(f"{nm}.intensity", li.intensity, lo=0.0)
+            _check_number(f"{nm}.intensity", li.intensity, lo=0.0, hi=MAX_PHOTOMETRIC)
         if li.kind in (C.LIGHT_SPOT, C.LIGHT_SUN):
-            d = _check_vec3(f"{nm}.direction", li.direction)
-            if not np.linalg.norm(d) > 0.0:
-                _fail(f"{nm}.direction", "must be a non-zero vector (it is normalised)")
+            d = _check_vec3(f"{nm}.direction", li.direction, hi=1e6)
+            if not np.linalg.norm(d) >= MIN_LENGTH:
+                _fail(f"{nm}.direction", f"must be a non-zero vector (it is normalised), got length "
+                                         f"{np.linalg.norm(d):.3g}")
         if li.kind == C.LIGHT_SPOT:
             _check_number(f"{nm}.spot_angle", li.spot_angle, lo=0.0, hi=math.pi)
             if li.spot_angle <= 0.0:
@@ -530,16 +581,16 @@ def _validate_lights(scene, spec_ref):
                 _fail(f"{nm}.profile", f"profile index {li.profile} out of range [0, {n_prof})")
             if li.profile_mode not in PROFILE_MODES:
                 _fail(f"{nm}.profile_mode", f"unknown mode {li.profile_mode!r} (one of {', '.join(PROFILE_MODES)})")
-            _check_number(f"{nm}.flux", li.flux, lo=0.0)
-            d = _check_vec3(f"{nm}.direction", li.direction)
-            u = _check_vec3(f"{nm}.axis_u", li.axis_u)
+            _check_number(f"{nm}.flux", li.flux, lo=0.0, hi=MAX_PHOTOMETRIC)
+            d = _check_vec3(f"{nm}.direction", li.direction, hi=1e6)
+            u = _check_vec3(f"{nm}.axis_u", li.axis_u, hi=1e6)
             dn = float(np.linalg.norm(d))
-            if not dn > 0.0:
+            if not dn >= MIN_LENGTH:
                 _fail(f"{nm}.direction", "a profiled light needs its nadir direction (local −Z), got a zero vector")
             if not np.linalg.norm(u - (u @ d) * d / (dn * dn)) > 1e-9 * max(1.0, float(np.linalg.norm(u))):
                 _fail(f"{nm}.axis_u", "a profiled light needs its local +X axis, not zero nor along direction")
         if li.kind == C.LIGHT_SUN:
-            _check_number(f"{nm}.illuminance", li.illuminance, lo=0.0)
+            _check_number(f"{nm}.illuminance", li.illuminance, lo=0.0, hi=MAX_PHOTOMETRIC)
             _check_number(f"{nm}.angle", li.angle, lo=0.0, hi=math.pi)
 
 
@@ -550,6 +601,8 @@ def _validate_camera(cam):
     _check_number("camera.lens_mm", cam.lens_mm, lo=1e-3, hi=1e6)
     _check_number("camera.sensor_width_mm", cam.sensor_width_mm, lo=1e-3, hi=1e6)
     _check_number("camera.sensor_height_mm", cam.sensor_height_mm, lo=1e-3, hi=1e6)
+    _check_number("camera.sensor_fit", cam.sensor_fit, integer=True)
+    _check_number("camera.projection", cam.projection, integer=True)
     if cam.sensor_fit not in (C.FIT_AUTO, C.FIT_HORIZONTAL, C.FIT_VERTICAL):
         _fail("camera.sensor_fit", f"unknown sensor fit {cam.sensor_fit}")
     if isinstance(cam.projection, bool) or cam.projection not in (C.CAM_PERSPECTIVE, C.CAM_ORTHOGRAPHIC):
@@ -559,14 +612,26 @@ def _validate_camera(cam):
     _check_number("camera.focus_distance", cam.focus_distance, lo=1e-6, hi=1e12)
     _check_number("camera.shift_x", cam.shift_x, lo=-100, hi=100)
     _check_number("camera.shift_y", cam.shift_y, lo=-100, hi=100)
-    rot = np.asarray(cam.to_world)[:3, :3]
+    m = np.asarray(cam.to_world)
+    if np.abs(m).max() > MAX_COORDINATE:
+        _fail("camera.to_world", f"an entry of magnitude {np.abs(m).max():.3g} (at most {MAX_COORDINATE:g})")
+    rot = m[:3, :3]
     if abs(np.linalg.det(rot)) < 1e-12:
         _fail("camera.to_world", "the rotation part is singular")
+    # the frame the camera's rays are built in (core/camera/record.py camera_vector): its
+    # normalised columns must be finite and span space
+    with np.errstate(all="ignore"):
+        norms = np.linalg.norm(rot, axis=0)
+        frame = rot / norms[None, :]
+        det = float(np.linalg.det(frame)) if np.all(np.isfinite(frame)) else float("nan")
+    if not (np.all(np.isfinite(norms)) and norms.min() > 0.0 and np.all(np.isfinite(frame)) and abs(det) >= 1e-6):
+        _fail("camera.to_world", f"the rotation part does not give a usable frame (column lengths "
+                                 f"{', '.join(f'{n:.3g}' for n in norms)}, normalised determinant {det:.3g})")
 
 
 def _validate_world(scene, spec_ref):
     spec_ref("world.background", scene.world.background, C.SPECTRUM_UNBOUNDED)
-    _check_number("world.luminance", scene.world.luminance, lo=0.0)
+    _check_number("world.luminance", scene.world.luminance, lo=0.0, hi=MAX_PHOTOMETRIC)
     wimg = scene.world.image
     if wimg is not None:
         _check_array("world.image", wimg, np.float32, (None, None, 3))
@@ -575,8 +640,11 @@ def _validate_world(scene, spec_ref):
         if wimg.size and wimg.min() < 0.0:
             bad = np.argwhere(wimg < 0.0)[0]
             _fail("world.image", f"negative radiance (first at index {tuple(int(i) for i in bad)})")
-    _check_number("world.rotation", scene.world.rotation)
-    _check_number("world.image_scale", scene.world.image_scale, lo=0.0)
+    _check_number("world.rotation", scene.world.rotation, lo=-1e6, hi=1e6)
+    _check_number("world.image_scale", scene.world.image_scale, lo=0.0, hi=MAX_PHOTOMETRIC)
+    if wimg is not None and wimg.size and C.K_M * float(wimg.max()) * scene.world.image_scale > MAX_PHOTOMETRIC:
+        _fail("world.image", f"texels of {C.K_M * float(wimg.max()) * scene.world.image_scale:.3g} cd/m² "
+                             f"after image_scale (at most {MAX_PHOTOMETRIC:g})")
 
 
 def _validate_calculation_surfaces(surfaces):
@@ -607,11 +675,13 @@ def _validate_settings(s):
     if s.filter not in (C.FILTER_BOX, C.FILTER_BLACKMAN_HARRIS, C.FILTER_GAUSSIAN):
         _fail("settings.filter", f"unknown pixel filter {s.filter} (0 box, 1 Blackman-Harris, 2 Gaussian)")
     _check_number("settings.filter_width", s.filter_width, lo=0.01, hi=64.0)
-    _check_number("settings.time_limit", s.time_limit, lo=0.0)
+    _check_number("settings.time_limit", s.time_limit, lo=0.0, hi=1e9)
     _check_number("settings.noise_target", s.noise_target, lo=0.0, hi=1e6)
     if not isinstance(s.next_event, (bool, np.bool_)):
         _fail("settings.next_event", f"expected true or false, got {s.next_event!r}")
 
+    _check_str("settings.colour_space", s.colour_space)
+    _check_str("settings.observer", s.observer)
     if s.colour_space not in COLOUR_SPACES:
         _fail("settings.colour_space", f"unknown colour space {s.colour_space!r} (one of {', '.join(COLOUR_SPACES)})")
     if s.observer not in OBSERVERS:
@@ -706,7 +776,10 @@ def save(scene: Scene, path) -> Path:
     """Write ``scene`` as ``path`` (JSON) plus ``path`` with suffix ``.npz`` (arrays).
 
     ``path`` may also name a folder, which then receives ``scene.json`` and
-    ``scene.npz``. Both files are written atomically; the scene is validated first.
+    ``scene.npz``. The scene is validated first. The two files are replaced as one unit
+    (core/io/atomic.py ``atomic_paths``: both or neither), and the JSON records the
+    SHA-256 of the ``.npz`` it was written with, so that :func:`load` refuses a pair of
+    files from two different saves.
     """
     validate(scene)
     path = Path(path)
@@ -714,113 +787,339 @@ def save(scene: Scene, path) -> Path:
         path = path / "scene.json"
     npz_path = path.with_suffix(".npz")
     doc, arrays = to_dict_and_arrays(scene)
-    doc["arrays"] = npz_path.name
     buf = io.BytesIO()
     np.savez_compressed(buf, **{k: np.ascontiguousarray(v) for k, v in arrays.items()})
-    with atomic_path(npz_path) as tmp:
-        tmp.write_bytes(buf.getvalue())
-    write_text(path, json.dumps(doc, indent=1))
+    data = buf.getvalue()
+    doc["arrays"] = npz_path.name
+    doc["arrays_sha256"] = hashlib.sha256(data).hexdigest()
+    try:
+        text = json.dumps(doc, indent=1, allow_nan=False)
+    except (TypeError, ValueError, RecursionError) as e:  # only metadata is free-form
+        raise SceneError(f"metadata: cannot be written as JSON ({e})") from None
+    with atomic_paths([npz_path, path]) as (tmp_npz, tmp_json):
+        with open(tmp_npz, "wb") as f:
+            fsync_write(f, data)
+        with open(tmp_json, "wb") as f:
+            fsync_write(f, text.encode("utf-8"))
     return path
 
 
+# Limits of a scene file, checked before anything larger is read.
+MAX_JSON_BYTES = 1 << 28  # 256 MiB of JSON (the arrays live in the .npz)
+MAX_JSON_DEPTH = 64  # nesting of JSON objects and lists
+MAX_STRING = 1 << 16  # characters of one JSON string (names, metadata values, keys)
+
+
+def _json_limits(doc, name):
+    """Nesting depth and string lengths of a parsed JSON document (iterative, no recursion)."""
+    stack = [(doc, 1, "")]
+    while stack:
+        v, depth, where = stack.pop()
+        if depth > MAX_JSON_DEPTH:
+            raise SceneError(f"{where or 'scene file'}: {name} nests deeper than {MAX_JSON_DEPTH} levels")
+        if isinstance(v, str):
+            if len(v) > MAX_STRING:
+                raise SceneError(f"{where or 'scene file'}: a string of {len(v)} characters (at most {MAX_STRING})")
+        elif isinstance(v, dict):
+            for k, x in v.items():
+                if len(k) > MAX_STRING:
+                    raise SceneError(f"{where or 'scene file'}: a key of {len(k)} characters (at most {MAX_STRING})")
+                stack.append((x, depth + 1, f"{where}.{k}" if where else k))
+        elif isinstance(v, list):
+            for i, x in enumerate(v):
+                stack.append((x, depth + 1, f"{where}[{i}]"))
+
+
+def _describe(v):
+    if isinstance(v, str):
+        return f"the string {v[:40]!r}" + ("..." if len(v) > 40 else "")
+    if v is None:
+        return "null"
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, float)):
+        return f"the number {v!r}"
+    return {"dict": "an object", "list": "a list"}.get(type(v).__name__, type(v).__name__)
+
+
+def _is_num(v):
+    return type(v) in (int, float)
+
+
+def _as_float(field_name, v):
+    if not _is_num(v):
+        raise SceneError(f"{field_name}: expected a number, got {_describe(v)}")
+    try:
+        return float(v)
+    except OverflowError:
+        raise SceneError(f"{field_name}: the number {str(v)[:40]}... is out of range") from None
+
+
+def _typed(field_name, kind, v):
+    """A JSON value checked against its field's one type (and converted to the record's)."""
+    if kind == "int":
+        if type(v) is not int:
+            raise SceneError(f"{field_name}: expected an integer, got {_describe(v)}")
+        return v
+    if kind == "float":
+        return _as_float(field_name, v)
+    if kind == "bool":
+        if type(v) is not bool:
+            raise SceneError(f"{field_name}: expected true or false, got {_describe(v)}")
+        return v
+    if kind == "str":
+        if type(v) is not str:
+            raise SceneError(f"{field_name}: expected a string, got {_describe(v)}")
+        return v
+    if kind == "vec3":
+        if type(v) is not list or len(v) != 3:
+            raise SceneError(f"{field_name}: expected a list of 3 numbers, got {_describe(v)}")
+        return tuple(_as_float(f"{field_name}[{k}]", x) for k, x in enumerate(v))
+    if kind == "params":
+        if v is None:
+            return None
+        if type(v) is not list or len(v) > C.MATERIAL_PARAMS:
+            raise SceneError(f"{field_name}: expected null or a list of at most {C.MATERIAL_PARAMS} numbers, "
+                             f"got {_describe(v)}" + (f" of {len(v)}" if type(v) is list else ""))
+        return [_as_float(f"{field_name}[{k}]", x) for k, x in enumerate(v)]
+    if kind == "matrix4":
+        if type(v) is not list or len(v) != 4 or any(type(r) is not list or len(r) != 4 for r in v):
+            raise SceneError(f"{field_name}: expected 4 rows of 4 numbers, got {_describe(v)}")
+        return np.array([[_as_float(f"{field_name}[{i}][{j}]", x) for j, x in enumerate(r)]
+                         for i, r in enumerate(v)], dtype=np.float64)
+    if kind == "any":
+        return v
+    raise AssertionError(kind)  # pragma: no cover
+
+
+def _kinds(cls, overrides):
+    """Field → JSON type of a record class: from its defaults, or ``overrides``."""
+    out = {}
+    for f in dataclasses.fields(cls):
+        if f.name in overrides:
+            out[f.name] = overrides[f.name]
+            continue
+        d = f.default
+        kind = {bool: "bool", int: "int", float: "float", str: "str", tuple: "vec3"}.get(type(d))
+        if kind is None:
+            raise AssertionError(f"{cls.__name__}.{f.name} has no JSON type")  # pragma: no cover
+        out[f.name] = kind
+    return out
+
+
+_FIELD_TYPES = {
+    Material: _kinds(Material, {"name": "str", "params": "params"}),
+    Light: _kinds(Light, {"name": "str", "kind": "int", "position": "vec3", "axis_u": "vec3", "axis_v": "vec3",
+                          "spectrum": "int", "luminance": "float"}),
+    Medium: _kinds(Medium, {"name": "str"}),
+    Camera: _kinds(Camera, {"to_world": "matrix4"}),
+    World: _kinds(World, {"image": "any"}),
+    RenderSettings: _kinds(RenderSettings, {}),
+    Texture: _kinds(Texture, {"name": "str", "image": "any"}),
+}
+
+
+def _safe_array_name(path, name):
+    """The ``.npz`` a scene file names: a plain file name in the scene's own folder."""
+    if type(name) is not str:
+        raise SceneError(f"arrays: expected a file name, got {_describe(name)}")
+    if (not name or name in (".", "..") or "/" in name or "\\" in name or "\0" in name
+            or Path(name).name != name or not name.lower().endswith(".npz")):
+        raise SceneError(f"arrays: {name!r} is not a .npz file name in the scene's folder "
+                         "(the arrays must lie beside the scene file)")
+    return path.parent / name
+
+
+def _sha256_file(path):
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for chunk in iter(lambda: f.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
 def load(path) -> Scene:
-    """Read a scene written by :func:`save`; raise SceneError with the field on any problem."""
+    """Read a scene written by :func:`save`; raise SceneError with the field on any problem.
+
+    Every field has one JSON type (an integer field takes no ``0.0``, a flag no string);
+    the file's size, nesting depth and string lengths and each array's declared and
+    decompressed size are checked before they are used; arrays are read only when a
+    field refers to them."""
     path = Path(path)
     if path.is_dir():
         path = path / "scene.json"
     if not path.is_file():
         raise SceneError(f"scene file: {path} does not exist")
     try:
-        doc = json.loads(path.read_text(encoding="utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as e:
+        size = path.stat().st_size
+        if size > MAX_JSON_BYTES:
+            raise SceneError(f"scene file: {path} has {size} bytes, more than {MAX_JSON_BYTES} "
+                             "(arrays belong in the .npz)")
+        doc = json.loads(path.read_bytes().decode("utf-8"))
+    except SceneError:
+        raise
+    except OSError as e:
+        raise SceneError(f"scene file: cannot read {path} ({e.strerror or e})") from None
+    except RecursionError:
+        raise SceneError(f"scene file: {path} nests deeper than {MAX_JSON_DEPTH} levels") from None
+    except (UnicodeDecodeError, ValueError) as e:  # json.JSONDecodeError, int() of a 5000-digit number
         raise SceneError(f"scene file: {path} is not valid JSON ({e})") from None
+    _json_limits(doc, path.name)
     if not isinstance(doc, dict) or doc.get("format") != "spectral-gi-scene":
         raise SceneError(f"format: {path} is not a spectral-gi scene file")
     version = doc.get("version")
-    if version != C.SCENE_FORMAT_VERSION:
+    if type(version) is not int or version != C.SCENE_FORMAT_VERSION:
         raise SceneError(f"version: unknown scene format version {version!r} "
                          f"(this build reads version {C.SCENE_FORMAT_VERSION})")
-    npz_path = path.parent / str(doc.get("arrays", path.with_suffix(".npz").name))
+    npz_path = _safe_array_name(path, doc.get("arrays", path.with_suffix(".npz").name))
     if not npz_path.is_file():
         raise SceneError(f"arrays: {npz_path} does not exist")
+    digest = doc.get("arrays_sha256")
+    if digest is not None:
+        if type(digest) is not str:
+            raise SceneError(f"arrays_sha256: expected a string, got {_describe(digest)}")
+        if _sha256_file(npz_path) != digest.lower():
+            raise SceneError(f"arrays: {npz_path.name} is not the array file {path.name} was saved with "
+                             "(its SHA-256 differs): the two files come from different saves")
     try:
-        with np.load(npz_path, allow_pickle=False) as z:
-            arrays = {k: z[k] for k in z.files}
-    except Exception as e:  # zipfile.BadZipFile, ValueError for pickled content, ...
-        raise SceneError(f"arrays: cannot read {npz_path} ({e})") from None
+        reader = NpzReader(npz_path)
+    except NpzError as e:
+        raise SceneError(f"arrays: {e}") from None
+    with reader:
+        scene = _from_doc(doc, path, reader)
+    return validate(scene)
+
+
+def _from_doc(doc, path, reader):
+    npz_name = Path(reader.path).name
 
     def arr(key, field_name):
         if key is None:
             return None
-        if not isinstance(key, str) or key not in arrays:
-            raise SceneError(f"{field_name}: array {key!r} missing from {npz_path.name}")
-        return arrays[key]
+        if type(key) is not str:
+            raise SceneError(f"{field_name}: expected the name of an array, got {_describe(key)}")
+        if key not in reader:
+            raise SceneError(f"{field_name}: array {key!r} missing from {npz_name}")
+        try:
+            return reader.get(key)
+        except NpzError as e:
+            raise SceneError(f"{field_name}: {e}") from None
 
-    def record(cls, d, field_name):
-        if not isinstance(d, dict):
-            raise SceneError(f"{field_name}: expected an object")
-        names = {f.name for f in dataclasses.fields(cls)}
-        unknown = set(d) - names
+    def obj(d, field_name):
+        if type(d) is not dict:
+            raise SceneError(f"{field_name}: expected an object, got {_describe(d)}")
+        return d
+
+    def lst(d, field_name, allow_none=False):
+        if d is None and allow_none:
+            return []
+        if type(d) is not list:
+            raise SceneError(f"{field_name}: expected a list, got {_describe(d)}")
+        return d
+
+    def names(d, field_name):
+        out = lst(d, field_name)
+        for k, x in enumerate(out):
+            if type(x) is not str:
+                raise SceneError(f"{field_name}[{k}]: expected a string, got {_describe(x)}")
+        return list(out)
+
+    def need(d, key, field_name):
+        if key not in d:
+            raise SceneError(f"{field_name}.{key}: missing from {path.name}")
+        return d[key]
+
+    def record(cls, d, field_name, converted=()):
+        obj(d, field_name)
+        types = _FIELD_TYPES[cls]
+        unknown = set(d) - set(types)
         if unknown:
             raise SceneError(f"{field_name}: unknown keys {sorted(unknown)}")
+        kw = {k: (v if k in converted else _typed(f"{field_name}.{k}", types[k], v)) for k, v in d.items()}
         try:
-            return cls(**d)
+            return cls(**kw)
         except TypeError as e:
             raise SceneError(f"{field_name}: {e}") from None
 
-    try:
-        sp = doc["spectra"]
-        spectra = SpectrumTable(arr(sp["coeffs"], "spectra.coeffs"), arr(sp["kind"], "spectra.kind"),
-                                list(sp["names"]))
-        meshes = []
-        for i, m in enumerate(doc["meshes"]):
-            meshes.append(Mesh(
-                name=m["name"],
-                positions=arr(m.get("positions"), f"meshes[{i}].positions"),
-                indices=arr(m.get("indices"), f"meshes[{i}].indices"),
-                material=arr(m.get("material"), f"meshes[{i}].material"),
-                normals=arr(m.get("normals"), f"meshes[{i}].normals"),
-                uvs=arr(m.get("uvs"), f"meshes[{i}].uvs"),
-                corner_uvs=arr(m.get("corner_uvs"), f"meshes[{i}].corner_uvs"),
-                sensor=m.get("sensor", False),
-                holdout=m.get("holdout", False),
-            ))
-        materials = [record(Material, d, f"materials[{i}]") for i, d in enumerate(doc["materials"])]
-        itd = doc.get("ior_tables")
-        ior_tables = IORTable.empty() if itd is None else IORTable(arr(itd["values"], "ior_tables.values"),
-                                                                 list(itd["names"]))
-        lights = [record(Light, d, f"lights[{i}]") for i, d in enumerate(doc["lights"])]
-        media = [record(Medium, d, f"media[{i}]") for i, d in enumerate(doc.get("media") or [])]
-        textures = []
-        for i, d in enumerate(doc.get("textures") or []):
-            d = dict(d) if isinstance(d, dict) else d
-            if isinstance(d, dict):
-                d["image"] = arr(d.get("image"), f"textures[{i}].image")
-            textures.append(record(Texture, d, f"textures[{i}]"))
-        profiles = [Profile(name=str(d["name"]), source=str(d.get("source", "")),
-                            theta=arr(d["theta"], f"profiles[{i}].theta"), phi=arr(d["phi"], f"profiles[{i}].phi"),
-                            candela=arr(d["candela"], f"profiles[{i}].candela"))
-                    for i, d in enumerate(doc.get("profiles") or [])]
-        camd = dict(doc["camera"])
-        camd["to_world"] = np.asarray(camd.get("to_world"), dtype=np.float64)
-        camera = record(Camera, camd, "camera")
-        wd = dict(doc["world"])
-        wd["image"] = arr(wd.get("image"), "world.image")
-        world = record(World, wd, "world")
-        settings = record(RenderSettings, doc["settings"], "settings")
-        surfaces = []
-        for i, d in enumerate(doc.get("calculation_surfaces") or []):
-            try:
-                surfaces.append(CalculationSurface.from_dict(d))
-            except LuxError as e:
-                raise SceneError(f"calculation_surfaces[{i}]: {e}") from None
-    except KeyError as e:
-        raise SceneError(f"{e.args[0]}: missing from {path.name}") from None
-    except (TypeError, ValueError, AttributeError) as e:
-        if isinstance(e, SceneError):
-            raise
-        raise SceneError(f"scene file: malformed content in {path.name} ({e})") from None
-    scene = Scene(meshes=meshes, spectra=spectra, materials=materials, lights=lights, ior_tables=ior_tables,
-                  media=media, profiles=profiles, textures=textures, camera=camera, world=world, settings=settings,
-                  calculation_surfaces=surfaces, metadata=dict(doc.get("metadata") or {}), version=version)
-    return validate(scene)
+    known = {"format", "version", "metadata", "spectra", "materials", "ior_tables", "lights", "media", "textures",
+             "profiles", "meshes", "camera", "world", "settings", "calculation_surfaces", "arrays", "arrays_sha256"}
+    unknown = set(doc) - known
+    if unknown:
+        raise SceneError(f"scene file: unknown keys {sorted(unknown)}")
+    for key in ("spectra", "materials", "lights", "meshes", "camera", "world", "settings"):
+        if key not in doc:
+            raise SceneError(f"{key}: missing from {path.name}")
+    sp = obj(doc["spectra"], "spectra")
+    spectra = SpectrumTable(arr(need(sp, "coeffs", "spectra"), "spectra.coeffs"),
+                            arr(need(sp, "kind", "spectra"), "spectra.kind"), names(need(sp, "names", "spectra"),
+                                                                                  "spectra.names"))
+    meshes = []
+    mesh_keys = {"name", "positions", "indices", "material", "normals", "uvs", "corner_uvs", "sensor", "holdout"}
+    for i, m in enumerate(lst(doc["meshes"], "meshes")):
+        nm = f"meshes[{i}]"
+        obj(m, nm)
+        unknown = set(m) - mesh_keys
+        if unknown:
+            raise SceneError(f"{nm}: unknown keys {sorted(unknown)}")
+        for key in ("positions", "indices", "material"):
+            if m.get(key) is None:
+                raise SceneError(f"{nm}.{key}: missing from {path.name}")
+        meshes.append(Mesh(
+            name=_typed(f"{nm}.name", "str", need(m, "name", nm)),
+            positions=arr(m["positions"], f"{nm}.positions"),
+            indices=arr(m["indices"], f"{nm}.indices"),
+            material=arr(m["material"], f"{nm}.material"),
+            normals=arr(m.get("normals"), f"{nm}.normals"),
+            uvs=arr(m.get("uvs"), f"{nm}.uvs"),
+            corner_uvs=arr(m.get("corner_uvs"), f"{nm}.corner_uvs"),
+            sensor=_typed(f"{nm}.sensor", "bool", m.get("sensor", False)),
+            holdout=_typed(f"{nm}.holdout", "bool", m.get("holdout", False)),
+        ))
+    materials = [record(Material, d, f"materials[{i}]") for i, d in enumerate(lst(doc["materials"], "materials"))]
+    itd = doc.get("ior_tables")
+    if itd is None:
+        ior_tables = IORTable.empty()
+    else:
+        obj(itd, "ior_tables")
+        ior_tables = IORTable(arr(need(itd, "values", "ior_tables"), "ior_tables.values"),
+                              names(need(itd, "names", "ior_tables"), "ior_tables.names"))
+    lights = [record(Light, d, f"lights[{i}]") for i, d in enumerate(lst(doc["lights"], "lights"))]
+    media = [record(Medium, d, f"media[{i}]") for i, d in enumerate(lst(doc.get("media"), "media", True))]
+    textures = []
+    for i, d in enumerate(lst(doc.get("textures"), "textures", True)):
+        d = dict(obj(d, f"textures[{i}]"))
+        d["image"] = arr(need(d, "image", f"textures[{i}]"), f"textures[{i}].image")
+        textures.append(record(Texture, d, f"textures[{i}]", converted=("image",)))
+    profiles = []
+    for i, d in enumerate(lst(doc.get("profiles"), "profiles", True)):
+        nm = f"profiles[{i}]"
+        obj(d, nm)
+        unknown = set(d) - {"name", "source", "theta", "phi", "candela"}
+        if unknown:
+            raise SceneError(f"{nm}: unknown keys {sorted(unknown)}")
+        profiles.append(Profile(name=_typed(f"{nm}.name", "str", need(d, "name", nm)),
+                                source=_typed(f"{nm}.source", "str", d.get("source", "")),
+                                theta=arr(need(d, "theta", nm), f"{nm}.theta"),
+                                phi=arr(need(d, "phi", nm), f"{nm}.phi"),
+                                candela=arr(need(d, "candela", nm), f"{nm}.candela")))
+    camera = record(Camera, doc["camera"], "camera")
+    if not isinstance(getattr(camera, "to_world", None), np.ndarray):
+        raise SceneError("camera.to_world: missing from " + path.name)
+    wd = dict(obj(doc["world"], "world"))
+    wd["image"] = arr(wd.get("image"), "world.image")
+    world = record(World, wd, "world", converted=("image",))
+    settings = record(RenderSettings, doc["settings"], "settings")
+    surfaces = []
+    for i, d in enumerate(lst(doc.get("calculation_surfaces"), "calculation_surfaces", True)):
+        try:
+            surfaces.append(CalculationSurface.from_dict(d))
+        except (LuxError, TypeError, ValueError) as e:
+            raise SceneError(f"calculation_surfaces[{i}]: {e}") from None
+    metadata = doc.get("metadata")
+    if metadata is None:
+        metadata = {}
+    if type(metadata) is not dict:
+        raise SceneError(f"metadata: expected an object, got {_describe(metadata)}")
+    return Scene(meshes=meshes, spectra=spectra, materials=materials, lights=lights, ior_tables=ior_tables,
+                 media=media, profiles=profiles, textures=textures, camera=camera, world=world, settings=settings,
+                 calculation_surfaces=surfaces, metadata=dict(metadata), version=doc["version"])

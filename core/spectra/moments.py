@@ -207,22 +207,36 @@ def check_coefficients(coeffs, kind):
     c = np.asarray(coeffs, dtype=np.float64)
     if not np.all(np.isfinite(c)):
         return "coefficients contain NaN or Inf"
-    if kind == C.SPECTRUM_BOUNDED:
-        if c[0] < -1e-9:
-            return f"negative reflectance (mean {c[0]:.6g} < 0)"
-        if c[0] > 1.0 + 1e-9:
-            return f"reflectance above 1 (mean {c[0]:.6g} > 1)"
-        if _EDGE < c[0] < 1.0 - _EDGE:
-            a = exponential_moments(c)
-            a[0] = a[0].real
-            if np.linalg.eigvalsh(_toeplitz_hermitian(a)).min() <= 0.0:
-                return "coefficients describe no reflectance within [0, 1]"
-        return None
-    if c[0] < 0.0:
-        return f"negative emission (mean {c[0]:.6g} < 0)"
-    if c[0] > 0.0 and np.linalg.eigvalsh(_toeplitz_hermitian(c.astype(np.complex128)).real).min() <= 0.0:
-        return "coefficients describe no non-negative emission spectrum"
+    # a non-negative g has |c_j| <= c_0 (|cos| <= 1): larger moments describe no spectrum
+    # (and would only reach the eigenvalue test below as numbers it cannot take)
+    tol = 1e-6 * max(abs(float(c[0])), 1.0)
+    if c.size > 1 and np.abs(c[1:]).max() > abs(float(c[0])) + tol:
+        return ("coefficients describe no reflectance within [0, 1]" if kind == C.SPECTRUM_BOUNDED
+                else "coefficients describe no non-negative emission spectrum")
+    try:
+        if kind == C.SPECTRUM_BOUNDED:
+            if c[0] < -1e-9:
+                return f"negative reflectance (mean {c[0]:.6g} < 0)"
+            if c[0] > 1.0 + 1e-9:
+                return f"reflectance above 1 (mean {c[0]:.6g} > 1)"
+            if _EDGE < c[0] < 1.0 - _EDGE:
+                a = exponential_moments(c)
+                a[0] = a[0].real
+                if np.linalg.eigvalsh(_toeplitz_hermitian(a)).min() <= 0.0:
+                    return "coefficients describe no reflectance within [0, 1]"
+            return None
+        if c[0] < 0.0:
+            return f"negative emission (mean {c[0]:.6g} < 0)"
+        if c[0] > MAX_EMISSION_MEAN:
+            return f"emission mean {c[0]:.6g} above {MAX_EMISSION_MEAN:g} (the shape's scale; luminance sets power)"
+        if c[0] > 0.0 and np.linalg.eigvalsh(_toeplitz_hermitian((c / c[0]).astype(np.complex128)).real).min() <= 0.0:
+            return "coefficients describe no non-negative emission spectrum"
+    except np.linalg.LinAlgError:
+        return "coefficients describe no spectrum (their moment matrix cannot be decomposed)"
     return None
+
+
+MAX_EMISSION_MEAN = 1e12  # an emission shape's c_0 (any scale is the same shape; this keeps it representable)
 
 
 def prepare(coeffs, kind):

@@ -149,7 +149,7 @@ def _ies_numbers_replaced(old, new, count=1):
     (_ies_numbers_replaced("1 -1 1 19 1 1 2 0 0 0", "1 -1 1 19.5 1 1 2 0 0 0"), "positive integer"),
     (_ies_numbers_replaced("1000 996.1947", "1000 abc"), "'abc' is not a number"),
     (_ies_numbers_replaced("1000 996.1947", "1000 -996.1947"), "negative candela"),
-    (_ies_numbers_replaced("1000 996.1947", "1000 nan"), "not a finite number"),
+    (_ies_numbers_replaced("1000 996.1947", "1000 nan"), "'nan' is not a number"),
     ("IESNA:LM-63-2002\n[TEST] x\n", "no TILT= line"),
     ("", "empty file"),
 ], ids=["truncated", "tilt", "type-b", "counts", "non-integer", "non-numeric", "negative", "nan", "no-tilt",

@@ -153,6 +153,9 @@ def test_load_errors_name_the_problem(tmp_path):
     write(doc)
     S.load(path)
     path.with_suffix(".npz").write_bytes(b"not a zip")
+    with pytest.raises(S.SceneError, match="arrays: s.npz is not the array file s.json was saved with"):
+        S.load(path)
+    write({k: v for k, v in doc.items() if k != "arrays_sha256"})  # a hand-made pair: no digest to compare
     with pytest.raises(S.SceneError, match="arrays: cannot read"):
         S.load(path)
 
@@ -163,7 +166,10 @@ def test_pickled_arrays_are_refused(tmp_path):
         arrays = {k: z[k] for k in z.files}
     arrays["spectra.coeffs"] = np.array([object()], dtype=object)
     np.savez(path.with_suffix(".npz"), **arrays)
-    with pytest.raises(S.SceneError, match="arrays: cannot read"):
+    doc = json.loads(path.read_text())
+    del doc["arrays_sha256"]  # a hand-made pair
+    path.write_text(json.dumps(doc))
+    with pytest.raises(S.SceneError, match=r"spectra.coeffs: .*not a plain number type"):
         S.load(path)
 
 

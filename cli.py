@@ -149,6 +149,10 @@ def _parser():
                    help="also write the spectral radiance in this many bins of 360-830 nm as "
                         "S0.<wavelength>nm channels (Fichet et al. 2021 layout; default 0: off)")
     r.add_argument("--exposure", type=float, default=0.0, help="exposure of the PNG preview in stops (default 0)")
+    r.add_argument("--denoise", action="store_true",
+                   help="denoise the colour image (R, G, B and the PNG) with OpenImageDenoise, guided by the film's "
+                        "albedo and normals (needs the pyoidn package); XYZ, Luminance, xyY, Lab and Luv stay the "
+                        "renderer's unbiased estimates")
     b = sub.add_parser("render-blend", help="render a .blend file with the bpy module (no Blender window) to "
                                             "OpenEXR + PNG, optionally compared with Cycles")
     b.add_argument("blend", help="the .blend file")
@@ -268,6 +272,12 @@ def _render(args):
     if getattr(args, "observer", None):
         st.observer = args.observer
     validate(scene)
+    if args.denoise:
+        from .core import denoise_available
+        from .core.film.denoise import PACKAGE
+
+        if not denoise_available():
+            raise SceneError(f"--denoise needs Intel Open Image Denoise's Python binding: pip install {PACKAGE}")
     out = Path(args.out or default_out)
     if out.suffix.lower() != ".exr":
         raise SceneError(f"--out: expected a .exr file name, got {out}")
@@ -295,6 +305,8 @@ def _render(args):
     dev = film.develop(white_balance=white_balance, colour_space=st.colour_space)
     attrs = {"spectralgi.spp": str(stats.spp), "spectralgi.seed": str(st.seed),
              "spectralgi.maxDepth": str(st.max_depth)}
+    if args.denoise and stats.spp > 0:
+        dev = _denoised(dev, attrs)
     spectral = (film.bin_centres(), film.spectral_radiance()) if film.spectral_bins else None
     write_render(out, dev, attrs, spectral=spectral)
     write_png(png, dev.rgb, args.exposure)
@@ -310,6 +322,21 @@ def _render(args):
         sys.stderr.write(f"stopped early at {stats.spp} of {st.spp} spp\n")
         return EXIT_INTERRUPTED
     return EXIT_OK
+
+
+def _denoised(dev, attrs):
+    """``dev`` with its colour image (rgb, and output unless it is XYZ) denoised; the measurements untouched."""
+    import dataclasses
+
+    from .core import denoise
+
+    rgb = denoise(dev.rgb, dev.albedo, dev.normal)
+    output = rgb if dev.output is dev.rgb else dev.output
+    if dev.colour_space == "acescg":
+        output = denoise(dev.output, dev.albedo, dev.normal)
+    attrs["spectralgi.denoised"] = ("R,G,B" if dev.colour_space != "xyz" else "PNG only") + \
+        " (OpenImageDenoise, albedo and normal guides)"
+    return dataclasses.replace(dev, rgb=rgb, output=output)
 
 
 def _lux(args):

@@ -69,12 +69,15 @@ class MeshCache:
 
     Keyed by the original object's and mesh's names; :meth:`forget` drops the objects whose
     geometry changed, so the next export reads only those again (``reads`` counts them).
-    Instances (particles, geometry-node instances) are read on every export.
+    Instances (particles, geometry-node instances) are read on every export. ``spectra`` keeps
+    the spectra fitted to colours (the costly part of exporting materials and lights), so an
+    export fits only the colours that changed.
     """
 
     def __init__(self):
         self.local = {}
         self.reads = 0
+        self.spectra = {}
 
     @staticmethod
     def key(obj):
@@ -103,7 +106,8 @@ def export_scene(depsgraph, scene=None, should_cancel=None, mesh_cache=None, cam
     from ...core import Scene, validate
 
     scene = scene if scene is not None else depsgraph.scene
-    ctx = ExportContext(scene.unit_settings.scale_length, should_cancel, n_coeffs=fourier_order(scene))
+    ctx = ExportContext(scene.unit_settings.scale_length, should_cancel, n_coeffs=fourier_order(scene),
+                        uplift_cache=mesh_cache.spectra if mesh_cache is not None else None)
     from .camera import export_camera
 
     if camera is None:

@@ -145,7 +145,7 @@ class InteractiveRender:
     def start(self):
         if self._thread is None or not self._thread.is_alive():
             self._stop = False
-            if self.n_threads > 1 and self._pool is None:
+            if self.n_threads > 1:
                 self._pool = ThreadPoolExecutor(max_workers=self.n_threads, thread_name_prefix="spectral-gi-view")
             self._thread = threading.Thread(target=self._work, name="spectral-gi-interactive", daemon=True)
             self._thread.start()
@@ -159,11 +159,7 @@ class InteractiveRender:
         t = self._thread
         if t is not None and wait:
             t.join(timeout=wait)
-        ended = t is None or not t.is_alive()
-        if ended and self._pool is not None:
-            self._pool.shutdown(wait=False, cancel_futures=True)
-            self._pool = None
-        return ended
+        return t is None or not t.is_alive()
 
     def wait_frame(self, generation=None, spp=1, pixel_size=None, timeout=60.0):
         """Block until a frame of ``generation`` (default: the latest) with at least ``spp`` samples
@@ -295,6 +291,14 @@ class InteractiveRender:
                 pass
 
     def _work(self):
+        try:
+            self._loop()
+        finally:
+            pool, self._pool = self._pool, None
+            if pool is not None:
+                pool.shutdown(wait=False, cancel_futures=True)
+
+    def _loop(self):
         generation, updated_at, level, film, step, first = -1, 0.0, 0, None, 1, True
         while True:
             took = self._take()

@@ -161,9 +161,11 @@ class ViewportRenderer:
         Returns the :class:`Changes` acted on (all of them on the first call)."""
         if changes is None:
             changes = classify(depsgraph) if self.exported is not None else None
-        if changes is None or (self.error is not None and changes.export is False):
+        failed = self.error is not None or self.session.error is not None
+        if changes is None or (failed and not changes.export):
             changes = Changes(kinds={"geometry", "materials", "lights", "world", "settings"})
             self.meshes.forget()
+            self.session.error = None  # a failed render tries again with the whole scene
         else:
             self.meshes.forget(changes.objects, changes.meshes)
         self.last = changes

@@ -203,3 +203,25 @@ def test_viewport_restarts_and_re_exports_only_what_changed(ext, bpy):
             assert v < 10.0  # a restart never waits for the render it interrupts
     finally:
         assert vp.stop(wait=10.0)
+
+
+def test_the_engine_reads_the_region_it_draws(ext, bpy):
+    """view_update and view_draw build the camera from the region's matrices (no GPU needed for that part)."""
+    from types import SimpleNamespace
+
+    engine = importlib.import_module(MODULE + ".addon.engine")
+    _, cam_mod, record, _ = modules()
+    cls = engine.SpectralGIRenderEngine
+    assert callable(getattr(cls, "view_update", None)) and callable(getattr(cls, "view_draw", None))
+    obj = ext.build.camera(location=(0.5, -4.0, 1.5), rotation=(math.radians(80), 0, math.radians(10)))
+    view, window = camera_view(bpy, obj, 80, 50)
+    import mathutils
+
+    ctx = SimpleNamespace(region=SimpleNamespace(width=80, height=50),
+                          region_data=SimpleNamespace(view_matrix=mathutils.Matrix(view.tolist()),
+                                                      window_matrix=mathutils.Matrix(window.tolist())))
+    bpy.context.scene.unit_settings.scale_length = 0.5
+    cam = engine.region_camera(ctx, bpy.context.scene)
+    expected = cam_mod.view_camera(view, window, 80, 50, 0.5)
+    np.testing.assert_allclose(record.camera_vector(cam), record.camera_vector(expected))
+    np.testing.assert_allclose(cam.to_world[:3, 3], 0.5 * np.array([0.5, -4.0, 1.5]), atol=1e-6)  # metres

@@ -140,7 +140,10 @@ def render_blend(blend, out, spp=None, compare_cycles=False, json_path=None, str
         except KeyError:
             raise HeadlessError(f"{out}: no Combined pass (channels: {', '.join(sorted(chans))})") from None
         png = out.with_suffix(".png")
-        write_png(png, rgb)
+        view = _save_png_as_blender_shows_it(bpy, scene, png, ov)
+        if view is None:  # no Render Result to save: the plain sRGB preview
+            write_png(png, rgb)
+            view = "sRGB (Standard)"
         stats = getattr(render_job.STATE, "engine_stats", None)
         samples = int(stats.spp) if stats is not None else int(scene.spectral_gi.samples)
         lum = chans.get("Luminance.Y")
@@ -152,14 +155,14 @@ def render_blend(blend, out, spp=None, compare_cycles=False, json_path=None, str
                    "samples": samples, "seconds": float(stats.seconds) if stats is not None else seconds,
                    "samples_per_second": float(stats.samples_per_second) if stats is not None else
                    samples * rgb.shape[0] * rgb.shape[1] / max(seconds, 1e-9),
-                   "mean_luminance": mean_lum, "luminance_unit": "cd/m2",
+                   "mean_luminance": mean_lum, "luminance_unit": "cd/m2", "png_view_transform": view,
                    "engine_message": render_job.STATE.message}
         if not math.isfinite(mean_lum):
             raise HeadlessError(f"{out}: the image holds NaN or Inf")
         say(f"wrote {out} (passes {', '.join(passes)}) and {png}: {render_job.STATE.message or f'{samples} spp'}, "
             f"mean luminance {mean_lum:.4g} cd/m²")
         if compare_cycles:
-            report = compare_with_cycles(scene, None, out_dir=str(out.parent), ours=(rgb, samples),
+            report = compare_with_cycles(scene, None, out_dir=str(out.parent), ours=(rgb, samples, summary["seconds"]),
                                          json_path=str(json_path) if json_path else None, log=say)
             summary["comparison"] = report
             say(f"Cycles comparison: luminance ratio {report['luminance_ratio']:.4f}, relative RMSE "
@@ -170,6 +173,26 @@ def render_blend(blend, out, spp=None, compare_cycles=False, json_path=None, str
     if json_path:  # the JSON holds the render summary (and the comparison)
         write_json_atomic(str(json_path), summary)
     return summary
+
+
+def _save_png_as_blender_shows_it(bpy, scene, png, ov):
+    """Write the render's PNG through Blender's colour management (the scene's view
+    transform, look, exposure and gamma), so it looks as F12 shows it. Returns the view's
+    name, or None when Blender has no Render Result to save."""
+    from ..core.io.atomic import atomic_path
+
+    img = bpy.data.images.get("Render Result")
+    if img is None:
+        return None
+    settings = scene.render.image_settings
+    ov.set(settings, "media_type", "IMAGE")
+    ov.set(settings, "file_format", "PNG")
+    ov.set(settings, "color_depth", "8")
+    ov.set(settings, "color_mode", "RGB")
+    with atomic_path(png) as tmp:
+        img.save_render(filepath=str(tmp), scene=scene)
+    vs = scene.view_settings
+    return vs.view_transform + (f", look {vs.look}" if vs.look not in ("", "None") else "")
 
 
 def main(args):

@@ -4,17 +4,16 @@ Each module in ``MODULES`` has a ``classes`` tuple and may have ``register_extra
 / ``unregister_extra()`` (for properties attached to Blender types). Registering
 twice, or unregistering what is not registered, does nothing, so
 register → unregister → register is safe. ``core`` (and so numba) is never imported
-here: operators import it lazily, after ``NUMBA_CACHE_DIR`` has been set.
+here: operators import it lazily. Compiled kernels go to the user's cache folder that
+the command line uses too (``core/jit.py``), shared by every install of the extension
+with the same sources, so reinstalling the same version does not compile again.
 """
-import os
 
 import bpy
 
 from . import engine, operators, properties, ui, versioning
 
 MODULES = (properties, versioning, engine, operators, ui)
-
-NUMBA_CACHE_SUBDIR = "numba_cache"
 
 
 def extension_package(package=__package__):
@@ -25,21 +24,7 @@ def extension_package(package=__package__):
     return top or None
 
 
-def set_numba_cache_dir():
-    """Point numba's cache at the extension's user folder (unless the environment already says where)."""
-    top = extension_package()
-    if top is None or "NUMBA_CACHE_DIR" in os.environ:
-        return os.environ.get("NUMBA_CACHE_DIR")
-    try:
-        path = bpy.utils.extension_path_user(top, path=NUMBA_CACHE_SUBDIR, create=True)
-    except (ValueError, RuntimeError, OSError, AttributeError):
-        return None
-    os.environ.setdefault("NUMBA_CACHE_DIR", path)
-    return path
-
-
 def register():
-    set_numba_cache_dir()
     done = []
     try:
         for module in MODULES:

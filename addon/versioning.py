@@ -34,6 +34,13 @@ Version 1
     entry at that position of the menu as this add-on builds it (the same entry those
     files showed), then stored by its stable number.
 
+Version 2
+    The default of Max Bounces (``Scene.spectral_gi.max_bounces``) is 64, the command
+    line's and the scene format's default. A scene of an older file that stores Spectral GI
+    settings but never set this one rendered with the old default, 16: it is given 16
+    explicitly, so it renders as before. A scene that stores no settings at all (a new
+    file, or one never rendered with the add-on) takes the current default.
+
 How to add a migration
     1. Raise ``SCHEMA_VERSION`` in ``properties/scene.py`` to N and change the properties.
     2. Write ``def _to_N(warn)``: walk ``_local(bpy.data.<collection>)``, read the old
@@ -125,9 +132,28 @@ def _to_1(warn):
     return changed
 
 
+OLD_MAX_BOUNCES = 16  # the Max Bounces default of settings versions 0 and 1
+
+
+def _to_2(warn):
+    """Max Bounces: scenes of an older layout that never set it keep the old default."""
+    changed = 0
+    for scene in _local(bpy.data.scenes):
+        group = _group(scene)
+        if group is None or stored_version(scene, lambda text: None) >= 2:
+            continue
+        if not group.keys():  # nothing stored: a scene the add-on never touched (a new file), not an old one
+            continue
+        if group.get("max_bounces") is None:
+            group.max_bounces = OLD_MAX_BOUNCES
+            changed += 1
+    return changed
+
+
 # (version, what changed, function(warn) → number of values changed), in increasing version order
 MIGRATIONS = (
     (1, "preset menus stored by stable numbers", _to_1),
+    (2, "Max Bounces kept at the old default of 16 where it was never set", _to_2),
 )
 
 

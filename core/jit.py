@@ -8,23 +8,38 @@ enforces it.
 """
 import hashlib
 import os
+import sys
 import threading
 from pathlib import Path
 
 
 import numba
+import numba.core.caching
 import numba.core.config
+
+
+def _host_cpu():
+    """The CPU the kernels are compiled for (LLVM's name and feature string)."""
+    try:
+        from llvmlite import binding
+
+        return binding.get_host_cpu_name() + binding.get_host_cpu_features().flatten()
+    except Exception:  # noqa: BLE001 - an llvmlite without these: numba's index still checks the CPU
+        return ""
 
 
 def _source_key():
     """Hash of every source under ``core/`` (any of them can hold a kernel or a helper it
-    inlines or calls), and of the numba version.
+    inlines or calls), of numba's version and of the CPU.
 
     numba's cache notices edits to the file holding an entry kernel but not to callees
-    in other files, so the cache folder is keyed by all of them.
+    in other files, so the cache folder is keyed by all of them. The same sources on the
+    same CPU share one folder, whichever copy of the package (the command line, any
+    install of the Blender extension) compiled them.
     """
     core = Path(__file__).resolve().parent
     h = hashlib.sha256(numba.__version__.encode())
+    h.update(_host_cpu().encode())
     sources = list(core.rglob("*.py"))
     for p in sorted(sources):
         h.update(p.relative_to(core).as_posix().encode())
@@ -33,9 +48,16 @@ def _source_key():
 
 
 def _cache_base():
+    """The user's cache folder for compiled kernels: ``$SPECTRAL_GI_CACHE_DIR`` or
+    ``$NUMBA_CACHE_DIR`` when set, else the platform's per-user cache (``$XDG_CACHE_HOME``
+    or ``~/.cache`` on Linux, ``~/Library/Caches`` on macOS, ``%LOCALAPPDATA%`` on Windows)."""
     base = os.environ.get("SPECTRAL_GI_CACHE_DIR") or os.environ.get("NUMBA_CACHE_DIR")
     if base:
         return Path(base)
+    if sys.platform == "win32" and os.environ.get("LOCALAPPDATA"):
+        return Path(os.environ["LOCALAPPDATA"]) / "spectral-gi" / "numba"
+    if sys.platform == "darwin":
+        return Path.home() / "Library" / "Caches" / "spectral-gi" / "numba"
     xdg = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
     return Path(xdg) / "spectral-gi" / "numba"
 
@@ -43,6 +65,41 @@ def _cache_base():
 CACHE_DIR = _cache_base() / _source_key()
 # Read by numba when each cached kernel is decorated: set before any kernel module loads.
 numba.core.config.CACHE_DIR = str(CACHE_DIR)
+_CORE = Path(__file__).resolve().parent
+
+
+class _CoreCacheLocator(numba.core.caching.UserProvidedCacheLocator):
+    """Where numba caches a kernel of this package's ``core``: ``CACHE_DIR`` (keyed by the
+    sources, numba and the CPU), then the module's folder relative to ``core``. numba's own
+    locator names that folder by a hash of its absolute path, so each copy of the package
+    (a checkout, an install of the extension, a reinstall) would compile everything
+    again; with this one every copy with the same sources shares the compiled kernels."""
+
+    core = _CORE
+    cache_dir = str(CACHE_DIR)
+
+    def __init__(self, py_func, py_file):
+        super().__init__(py_func, py_file)
+        rel = Path(py_file).resolve().parent.relative_to(self.core)
+        self._cache_path = os.path.join(self.cache_dir, *rel.parts, "__kernels__")
+
+    @classmethod
+    def from_function(cls, py_func, py_file):
+        try:
+            Path(py_file).resolve().relative_to(cls.core)
+        except ValueError:  # not this copy's core (another copy's locator, or numba's, takes it)
+            return None
+        return super().from_function(py_func, py_file)
+
+
+def _install_locator():
+    """Put this copy's locator first in numba's list (once per copy of the package)."""
+    classes = numba.core.caching.CacheImpl._locator_classes
+    if not any(getattr(c, "core", None) == _CORE for c in classes):
+        classes.insert(0, _CoreCacheLocator)
+
+
+_install_locator()
 
 def _process_lock():
     """The lock every launch of a parallel (prange) kernel holds: numba's threading layers

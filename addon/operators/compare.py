@@ -262,19 +262,10 @@ def output_dir(scene):
 def write_json_atomic(path, doc):
     """Write ``doc`` as JSON to ``path``: a temporary file in the same folder, then an atomic rename."""
     folder = os.path.dirname(os.path.abspath(path)) or "."
-    fd, tmp = tempfile.mkstemp(prefix=".spectral-gi-", suffix=".json.tmp", dir=folder)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as f:
-            json.dump(doc, f, indent=1)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
+    from ...core.io.atomic import write_text
+
+    os.makedirs(folder, exist_ok=True)
+    write_text(path, json.dumps(doc, indent=1))  # readable by the group, as the images are
     return path
 
 
@@ -290,7 +281,7 @@ def finish_comparison(scene, ours_rgb, ref_rgb, matched, seconds_ours, seconds_c
 
     Called only once both renders are complete, so a cancelled comparison leaves the last one intact.
     """
-    from ...core import compare_images, delta_e_image, side_by_side
+    from ...core import compare_images, delta_e_image, side_by_side, write_png
     from ..imageio import write_rgb
 
     say = log or (lambda text: None)
@@ -308,13 +299,20 @@ def finish_comparison(scene, ours_rgb, ref_rgb, matched, seconds_ours, seconds_c
     sbs = write_rgb(side_by_side(ours_rgb, ref_rgb), SIDE_BY_SIDE_IMAGE)
     dimg = write_rgb(delta_e_image(de), DELTA_E_IMAGE)
     stem = bpy.path.clean_name(scene.name) or "scene"
-    for img, suffix in ((sbs, "side_by_side"), (dimg, "delta_e00")):
+    for img, rgb, suffix in ((sbs, side_by_side(ours_rgb, ref_rgb), "side_by_side"),
+                             (dimg, delta_e_image(de), "delta_e00")):
         path = os.path.join(out_dir, f"{stem}_cycles_{suffix}.exr")
         try:
             _save_image_exr(img, path)
             report["images"][suffix] = path
         except RuntimeError as exc:
             say(f"could not save {path}: {exc}")
+        png = os.path.join(out_dir, f"{stem}_cycles_{suffix}.png")  # sRGB, for viewers without EXR
+        try:
+            write_png(png, rgb)
+            report["images"][suffix + "_png"] = png
+        except OSError as exc:
+            say(f"could not save {png}: {exc}")
     json_path = json_path or os.path.join(out_dir, f"{stem}_cycles_comparison.json")
     write_json_atomic(json_path, report)
     report["report_path"] = json_path
@@ -338,7 +336,8 @@ def compare_with_cycles(scene, depsgraph, out_dir=None, json_path=None, spp=None
     """Run the comparison, blocking; returns the report dict (also stored on ``scene.spectral_gi`` and as JSON).
 
     ``ours``: an already rendered image to compare instead of rendering again: a
-    (core scene, film) pair, or (linear Rec.709 (H, W, 3) array, samples rendered).
+    (core scene, film) pair, or (linear Rec.709 (H, W, 3) array, samples rendered, and
+    optionally the seconds that render took).
     """
     import numpy as np
 
@@ -350,6 +349,8 @@ def compare_with_cycles(scene, depsgraph, out_dir=None, json_path=None, spp=None
         ours_rgb, matched = film.develop().rgb, matched_settings(scene, core_scene.settings, film.spp)
     elif isinstance(ours[0], np.ndarray):
         ours_rgb, matched = ours[0], matched_settings(scene, spp=ours[1])
+        if len(ours) > 2:  # the render's own time, not the time to hand its image over
+            t0 -= float(ours[2])
     else:
         core_scene, film = ours
         ours_rgb, matched = film.develop().rgb, matched_settings(scene, core_scene.settings, film.spp)

@@ -36,7 +36,7 @@ OBSERVERS = (
 COLOUR_OUTPUT_PASS = "Colour Output"  # render pass holding the image in an output space other than Rec.709
 
 # Layout of the settings the add-on stores in a .blend file; addon/versioning.py brings older files up to it.
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2
 
 
 def _denoise_update(settings, context):
@@ -72,7 +72,7 @@ class SpectralGISceneSettings(bpy.types.PropertyGroup):
         name="Max Bounces",
         description="Maximum number of scattering events on a path (a count). Russian roulette "
                     "ends most paths earlier without bias; this is only a hard limit",
-        default=16, min=0, max=1024,
+        default=64, min=0, max=1024,
     )
     seed: IntProperty(
         name="Seed",

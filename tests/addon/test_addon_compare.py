@@ -169,7 +169,8 @@ def test_modal_state_machine_runs_both_renders(ext, bpy, tmp_path):
     report = json.loads(open(s.compare_report_path, encoding="utf-8").read())
     assert report["samples"] == 64 and report["luminance_ratio"] == pytest.approx(s.compare_luminance_ratio)
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
-        ["Scene_cycles_comparison.json", "Scene_cycles_delta_e00.exr", "Scene_cycles_side_by_side.exr"])
+        ["Scene_cycles_comparison.json", "Scene_cycles_delta_e00.exr", "Scene_cycles_side_by_side.exr",
+         "Scene_cycles_delta_e00.png", "Scene_cycles_side_by_side.png"])
 
 
 def _previous_result(bpy, s, tmp_path):

@@ -1,5 +1,5 @@
 """Installing, enabling, registering and unregistering the extension."""
-import os
+from pathlib import Path
 
 import pytest
 
@@ -31,7 +31,7 @@ def test_register_unregister_register(ext, bpy):
     ext.module.register()
     assert all(registered(bpy).values())
     s = bpy.context.scene.spectral_gi
-    assert (s.samples, s.max_bounces, s.seed, s.threads) == (64, 16, 0, 0)
+    assert (s.samples, s.max_bounces, s.seed, s.threads) == (64, 64, 0, 0)
     # the engine's own panels show again with the engine selected (their COMPAT_ENGINES
     # survive the cycle), and Blender's generic panels list the engine again
     engine = bpy.context.scene.render.engine
@@ -59,14 +59,17 @@ def test_panel_is_in_render_properties_for_every_engine(ext, bpy):
     assert not hasattr(panel, "poll") or panel.poll(bpy.context)
 
 
-def test_numba_cache_dir_is_the_extension_user_folder(ext, bpy):
+def test_the_extension_shares_the_command_lines_kernel_cache(ext, bpy):
+    """The installed extension (a copy of the package in Blender's user folder) compiles into,
+    and loads from, the same cache folder as this checkout: the same sources, the same kernels."""
+    import importlib
+
+    from spectral_gi.core import jit
+
     assert ext.registration.extension_package() == "bl_ext.user_default.spectral_gi"
-    cache = os.environ.get("NUMBA_CACHE_DIR")
-    assert cache
-    expected = bpy.utils.extension_path_user("bl_ext.user_default.spectral_gi", path="numba_cache")
-    if os.path.normpath(cache) != os.path.normpath(expected):
-        pytest.skip(f"NUMBA_CACHE_DIR was already set by the environment ({cache})")
-    assert os.path.isdir(cache)
+    theirs = importlib.import_module("bl_ext.user_default.spectral_gi.core.jit")
+    assert Path(theirs.__file__).resolve() != Path(jit.__file__).resolve()
+    assert theirs.CACHE_DIR == jit.CACHE_DIR
 
 
 def test_panel_draws_idle_and_while_rendering(ext, bpy, monkeypatch):

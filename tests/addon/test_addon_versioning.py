@@ -246,3 +246,23 @@ def test_the_handlers_come_and_go_with_the_add_on(ext, bpy, versioning):
     finally:
         ext.module.register()
     assert ours() == [("load_post", "load_post"), ("save_pre", "save_pre")]  # once each, not twice
+
+
+def test_max_bounces_of_an_older_file_keeps_the_old_default(ext, bpy, versioning, schema, tmp_path, capsys):
+    """A version 1 scene that never set Max Bounces rendered with 16; after the update it still
+    does, while a scene that set it and a new scene keep theirs (the new default, 64)."""
+    build_old_layout(bpy, ext, stamp=1)
+    s = bpy.context.scene.spectral_gi
+    assert s.get("max_bounces") is None and s.max_bounces == 64  # the new default, read from an unset value
+    other = bpy.data.scenes.new("Set by hand")
+    other.spectral_gi.max_bounces = 40
+    other.spectral_gi["schema_version"] = 1
+    save_and_open(bpy, tmp_path / "v1.blend", versioning)
+    assert bpy.data.scenes["Scene"].spectral_gi.max_bounces == versioning.OLD_MAX_BOUNCES == 16
+    assert bpy.data.scenes["Set by hand"].spectral_gi.max_bounces == 40
+    assert "from settings version 1 to 2" in capsys.readouterr().err
+    assert bpy.data.scenes.new("Fresh").spectral_gi.max_bounces == 64
+    bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "v2.blend"), check_existing=False)
+    bpy.ops.wm.open_mainfile(filepath=str(tmp_path / "v2.blend"))
+    assert bpy.data.scenes["Fresh"].spectral_gi.max_bounces == 64  # a current scene is not migrated
+    assert bpy.data.scenes["Scene"].spectral_gi.max_bounces == 16

@@ -1,5 +1,6 @@
 """``spectral-gi render-blend``: failures in one line, and a real .blend rendered headlessly."""
 import json
+from pathlib import Path
 import subprocess
 import sys
 import textwrap
@@ -89,7 +90,7 @@ def test_render_blend_end_to_end(tmp_path):
     pytest.importorskip("bpy")
     blend = _make_blend(tmp_path / "scene.blend")
     out, report = tmp_path / "out" / "render.exr", tmp_path / "report.json"
-    proc = _cli(blend, "--out", out, "--spp", "4", "--compare-cycles", "--json", report)
+    proc = _cli(blend, "--out", out, "--spp", "4", "--compare-cycles", "--json", report, "--mkdir")
     assert proc.returncode == 0, proc.stderr[-3000:]
     import OpenEXR
 
@@ -118,6 +119,20 @@ def test_render_blend_end_to_end(tmp_path):
     cmp = doc["comparison"]
     assert cmp["samples"] == 4 and np.isfinite(cmp["luminance_ratio"]) and cmp["luminance_ratio"] > 0.5
     assert json.loads(proc.stdout.strip().splitlines()[-1])["samples"] == 4
+    # the reported times are the renders' own, not the hand-over of a finished image
+    assert cmp["seconds_spectral_gi"] >= doc["seconds"] > 1e-3
+    # the PNG went through Blender's colour management (the file's AgX view), not a plain sRGB encode
+    from helpers import read_png_rgb8
+    from spectral_gi.core.io.png import to_srgb8
+
+    assert doc["png_view_transform"].startswith("AgX")
+    png = read_png_rgb8(out.with_suffix(".png")).astype(int)
+    plain = to_srgb8(rgb).astype(int)
+    assert png.shape == plain.shape and np.abs(png - plain).mean() > 2.0
+    # the comparison images come as PNG too; report files are readable like the images
+    for key in ("side_by_side_png", "delta_e00_png"):
+        assert Path(cmp["images"][key]).is_file()
+    assert report.stat().st_mode & 0o044 == out.with_suffix(".png").stat().st_mode & 0o044
 
 
 def _one_line_error(proc, *needles):

@@ -101,3 +101,46 @@ def test_status_says_compiling_only_when_the_cache_lacks_the_kernels(rendered, m
     assert message in said
     other = {"Loading compiled kernels", "Compiling kernels (first run only)"} - {message}
     assert not other & set(said)
+
+
+_CACHE_PROBE = """
+import json, sys
+from spectral_gi import core
+from spectral_gi.core import jit
+from spectral_gi.core.integrators import warmup
+from spectral_gi.core.integrators.path import render_rows
+cached = warmup.kernel_cached()
+film, st = core.render(core.cornell_box(6, 6, spp=1, max_depth=2), threads=1)
+print(json.dumps({"file": core.__file__, "cache": str(jit.CACHE_DIR), "cached_before": cached,
+                  "hits": sum(render_rows.stats.cache_hits.values()),
+                  "misses": sum(render_rows.stats.cache_misses.values()), "sum": float(film.sums.sum())}))
+"""
+
+
+def test_a_copy_of_the_package_elsewhere_loads_the_kernels_this_one_compiled(rendered, tmp_path):
+    """The command line and every install of the extension (each a copy of the package in
+    another folder) use one cache: what this checkout compiled (the ``rendered`` fixture),
+    a copy with the same sources in another folder loads, and renders the same image."""
+    import json
+    import shutil
+    from pathlib import Path
+
+    from spectral_gi.core import jit
+    from spectral_gi.core.integrators.path import render_rows
+
+    root = Path(core.__file__).resolve().parents[1]
+    copy = tmp_path / "elsewhere" / "spectral_gi"
+    shutil.copytree(root / "core", copy / "core", ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copytree(root / "presets", copy / "presets", ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copy(root / "__init__.py", copy / "__init__.py")
+    here = core.render(core.cornell_box(6, 6, spp=1, max_depth=2), threads=1)[0]
+    assert render_rows.signatures
+    env = dict(os.environ, PYTHONPATH=str(copy.parent), SPECTRAL_GI_PARALLEL_COMPILE="0")
+    out = subprocess.run([sys.executable, "-c", _CACHE_PROBE], env=env, capture_output=True, text=True,
+                         timeout=900, cwd=tmp_path)
+    assert out.returncode == 0, out.stderr[-2000:]
+    there = json.loads(out.stdout.strip().splitlines()[-1])
+    assert Path(there["file"]).resolve().is_relative_to(copy.resolve())
+    assert there["cache"] == str(jit.CACHE_DIR)
+    assert there["cached_before"] and there["hits"] == 1 and there["misses"] == 0
+    assert there["sum"] == float(here.sums.sum())

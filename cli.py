@@ -197,6 +197,10 @@ def _parser():
     r.add_argument("--checkpoint", metavar="FILE.npz",
                    help="save the film to this file as it renders (after each farm batch; locally every 10 s) "
                         "and resume from it when it exists")
+    r.add_argument("--denoise", action="store_true",
+                   help="denoise the colour image (R, G, B and the PNG) with OpenImageDenoise, guided by the film's "
+                        "albedo and normals (needs the pyoidn package); XYZ, Luminance, xyY, Lab and Luv stay the "
+                        "renderer's unbiased estimates")
     b = sub.add_parser("render-blend", help="render a .blend file with the bpy module (no Blender window) to "
                                             "OpenEXR + PNG, optionally compared with Cycles")
     b.add_argument("blend", help="the .blend file")
@@ -383,6 +387,12 @@ def _render(args, stop):
     if getattr(args, "observer", None):
         st.observer = args.observer
     validate(scene)
+    if args.denoise:
+        from .core import denoise_available
+        from .core.film.denoise import PACKAGE
+
+        if not denoise_available():
+            raise SceneError(f"--denoise needs Intel Open Image Denoise's Python binding: pip install {PACKAGE}")
     out = Path(args.out or default_out)
     if out.suffix.lower() != ".exr":
         raise SceneError(f"--out: expected a .exr file name, got {out}")
@@ -426,6 +436,8 @@ def _render(args, stop):
         dev = film.develop(white_balance=white_balance, colour_space=st.colour_space)
         attrs = {"spectralgi.spp": str(stats.spp), "spectralgi.seed": str(st.seed),
                  "spectralgi.maxDepth": str(st.max_depth)}
+        if args.denoise and stats.spp > 0:
+            dev = _denoised(dev, attrs)
         spectral = (film.bin_centres(), film.spectral_radiance()) if film.spectral_bins else None
         with atomic_paths([out, png]) as (tmp_exr, tmp_png):  # both files or neither
             write_render(tmp_exr, dev, attrs, spectral=spectral)
@@ -465,6 +477,21 @@ def _one_line(e):
     if isinstance(e, OSError) and e.strerror:
         text = e.strerror + (f": {e.filename}" if e.filename else "")
     return text[:500]
+
+
+def _denoised(dev, attrs):
+    """``dev`` with its colour image (rgb, and output unless it is XYZ) denoised; the measurements untouched."""
+    import dataclasses
+
+    from .core import denoise
+
+    rgb = denoise(dev.rgb, dev.albedo, dev.normal)
+    output = rgb if dev.output is dev.rgb else dev.output
+    if dev.colour_space == "acescg":
+        output = denoise(dev.output, dev.albedo, dev.normal)
+    attrs["spectralgi.denoised"] = ("R,G,B" if dev.colour_space != "xyz" else "PNG only") + \
+        " (OpenImageDenoise, albedo and normal guides)"
+    return dataclasses.replace(dev, rgb=rgb, output=output)
 
 
 def _lux(args):

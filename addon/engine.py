@@ -8,7 +8,9 @@ import bpy
 
 from .imageio import ILLUMINANCE_PASS, enabled_passes, sensors_enabled
 from .properties.scene import COLOUR_OUTPUT_PASS
+from .export.camera import view_camera
 from .render_job import render_with_engine
+from .viewport import FINAL_RENDERS, ViewportRenderer
 
 # Blender panels (output, dimensions, colour management, …) drawn for our engine too.
 # Lights are drawn by our own light panel (with their photometric units), not Blender's legacy one.
@@ -28,14 +30,56 @@ class SpectralGIRenderEngine(bpy.types.RenderEngine):
     bl_use_eevee_viewport = True  # Material Preview in the viewport uses EEVEE
     bl_use_shading_nodes_custom = False  # materials use Blender's shader nodes
 
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.viewport = None  # ViewportRenderer of a Rendered-mode viewport (addon/viewport.py)
+        self.draw_data = None
+
+    def __del__(self):
+        vp = getattr(self, "viewport", None)
+        if vp is not None:
+            vp.stop(wait=0.0)
+
     def render(self, depsgraph):
         try:
-            render_with_engine(self, depsgraph)
+            with FINAL_RENDERS:  # viewports pause while a final render runs
+                render_with_engine(self, depsgraph)
         except Exception as exc:  # never let an exception escape into Blender's render job
             import traceback
 
             traceback.print_exc()
             self.report({"ERROR"}, f"Spectral GI: {type(exc).__name__}: {exc}")
+
+    # ------------------------------------------------------------------ the viewport (Rendered mode)
+
+    def view_update(self, context, depsgraph):
+        """A depsgraph change: export what changed; the render restarts on its own thread."""
+        try:
+            if self.viewport is None:
+                from .render_job import engine_threads
+
+                self.viewport = ViewportRenderer(threads=engine_threads(depsgraph.scene))
+            self.viewport.sync(depsgraph, region_camera(context, depsgraph.scene))
+        except Exception as exc:  # never into Blender's draw loop
+            self.report({"ERROR"}, f"Spectral GI: viewport: {type(exc).__name__}: {exc}")
+
+    def view_draw(self, context, depsgraph):
+        """Draw the latest image (restarting first if the view moved); redraws until it has converged."""
+        vp = self.viewport
+        if vp is None:
+            return
+        try:
+            vp.view(region_camera(context, depsgraph.scene))
+            frame = vp.frame()  # until the first frame after a change, the previous one stays up
+            if frame is not None:
+                self.draw_data = ViewportTexture.update(self.draw_data, frame)
+            if self.draw_data is not None:
+                self.draw_data.draw(self, depsgraph.scene, context.region.width, context.region.height)
+            self.update_stats("", vp.status)
+            if not vp.converged:
+                self.tag_redraw()
+        except Exception as exc:
+            self.report({"ERROR"}, f"Spectral GI: viewport: {type(exc).__name__}: {exc}")
 
     def update_render_passes(self, scene=None, renderlayer=None):
         self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
@@ -47,6 +91,45 @@ class SpectralGIRenderEngine(bpy.types.RenderEngine):
             self.register_pass(scene, renderlayer, COLOUR_OUTPUT_PASS, 3, "RGB", "COLOR")
         if sensors_enabled(scene):
             self.register_pass(scene, renderlayer, *ILLUMINANCE_PASS)
+
+
+def region_camera(context, scene):
+    """The core Camera of the 3D viewport region being drawn (its view and projection matrices)."""
+    from .export.convert import matrix_to_array
+
+    region, rv3d = context.region, context.region_data
+    return view_camera(matrix_to_array(rv3d.view_matrix), matrix_to_array(rv3d.window_matrix), region.width,
+                       region.height, scene.unit_settings.scale_length)
+
+
+class ViewportTexture:
+    """The GPU texture of the latest viewport frame, drawn over the region through Blender's
+    display transform (``bind_display_space_shader``: view transform, look, exposure)."""
+
+    def __init__(self, frame):
+        import gpu
+
+        rgba = frame.rgba[::-1]  # GPU textures start at the bottom row
+        h, w = rgba.shape[:2]
+        pixels = gpu.types.Buffer("FLOAT", w * h * 4, rgba.ravel())
+        self.texture = gpu.types.GPUTexture((w, h), format="RGBA16F", data=pixels)
+        self.key = (frame.generation, frame.pixel_size, frame.spp)
+
+    @classmethod
+    def update(cls, current, frame):
+        if current is not None and current.key == (frame.generation, frame.pixel_size, frame.spp):
+            return current
+        return cls(frame)
+
+    def draw(self, engine, scene, width, height):
+        import gpu
+        from gpu_extras.presets import draw_texture_2d
+
+        gpu.state.blend_set("ALPHA_PREMULT")
+        engine.bind_display_space_shader(scene)
+        draw_texture_2d(self.texture, (0, 0), width, height)  # a coarse frame is stretched over the region
+        engine.unbind_display_space_shader()
+        gpu.state.blend_set("NONE")
 
 
 def compat_panels():

@@ -14,6 +14,8 @@ from .io.exr import write_render as write_exr
 from .io.png import encode_png, write_png
 from .io.presets import load_cornell_box_data
 from .integrators.render import RenderStats, kernels_compiled, render
+from .integrators.interactive import Frame, InteractiveRender
+from .film.denoise import DenoiseUnavailable, denoise, denoise_available
 from .scene import (
     Camera, Light, Material, Mesh, RenderSettings, Scene, SceneError, SpectrumTable, World, validate)
 from .scene import load as load_scene
@@ -56,6 +58,7 @@ __all__ = [
     "reflectance_to_rgb", "emission_to_rgb",
     "emission_luminance", "area_light_luminance", "emitter_luminance", "EMITTER_UNITS",
     "render", "RenderStats", "kernels_compiled", "Film", "Developed", "develop",
+    "InteractiveRender", "Frame", "denoise", "denoise_available", "DenoiseUnavailable",
     "write_exr", "read_exr", "write_png",
     "cornell_box", "load_cornell_box_data",
     "IORTable", "make_params", "lambert_params", "phong_params", "blinn_phong_params", "ward_params",

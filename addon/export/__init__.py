@@ -13,7 +13,7 @@ from .material import export_world_volume
 from .mesh import GEOMETRY_TYPES, HELPER_TYPES, export_mesh, slot_materials
 from .world import export_world
 
-__all__ = ["ExportCancelled", "ExportError", "ExportResult", "export_scene", "render_settings"]
+__all__ = ["ExportCancelled", "ExportError", "ExportResult", "MeshCache", "export_scene", "render_settings"]
 
 DEFAULTS = {"samples": 64, "max_bounces": 16, "seed": 0, "use_animated_seed": False, "sampler": "INDEPENDENT",
             "pixel_filter": "BLACKMAN_HARRIS", "filter_width": 1.5, "time_limit": 0.0, "noise_target": 0.0}
@@ -64,9 +64,41 @@ def _instance_name(inst, obj):
     return obj.name
 
 
-def export_scene(depsgraph, scene=None, should_cancel=None):
+class MeshCache:
+    """The local triangles of objects across exports (the viewport's incremental export).
+
+    Keyed by the original object's and mesh's names; :meth:`forget` drops the objects whose
+    geometry changed, so the next export reads only those again (``reads`` counts them).
+    Instances (particles, geometry-node instances) are read on every export. ``spectra`` keeps
+    the spectra fitted to colours (the costly part of exporting materials and lights), so an
+    export fits only the colours that changed.
+    """
+
+    def __init__(self):
+        self.local = {}
+        self.reads = 0
+        self.spectra = {}
+
+    @staticmethod
+    def key(obj):
+        data = getattr(obj.data, "original", obj.data)
+        return (obj.original.name, getattr(data, "name", ""))
+
+    def forget(self, object_names=None, data_names=None):
+        """Drop the entries of these objects (original names) and of these meshes; all with no arguments."""
+        if object_names is None and data_names is None:
+            self.local.clear()
+            return
+        objects, datas = set(object_names or ()), set(data_names or ())
+        for k in [k for k in self.local if k[0] in objects or k[1] in datas]:
+            del self.local[k]
+
+
+def export_scene(depsgraph, scene=None, should_cancel=None, mesh_cache=None, camera=None):
     """Export the scene evaluated by ``depsgraph``. ``should_cancel()`` is checked between objects.
 
+    mesh_cache: a :class:`MeshCache` whose entries are used instead of reading the meshes again;
+    camera: a core Camera used instead of the scene's camera (the viewport's view).
     Raises ExportCancelled, ExportError, or core.SceneError; never returns a partial scene.
     """
     import bpy
@@ -74,10 +106,12 @@ def export_scene(depsgraph, scene=None, should_cancel=None):
     from ...core import Scene, validate
 
     scene = scene if scene is not None else depsgraph.scene
-    ctx = ExportContext(scene.unit_settings.scale_length, should_cancel, n_coeffs=fourier_order(scene))
+    ctx = ExportContext(scene.unit_settings.scale_length, should_cancel, n_coeffs=fourier_order(scene),
+                        uplift_cache=mesh_cache.spectra if mesh_cache is not None else None)
     from .camera import export_camera
 
-    camera = export_camera(ctx, scene, depsgraph)
+    if camera is None:
+        camera = export_camera(ctx, scene, depsgraph)
     meshes, lights = [], []
     cache = {}
     surfaced, unsurfaced = set(), []
@@ -97,7 +131,12 @@ def export_scene(depsgraph, scene=None, should_cancel=None):
                 # theirs (a mesh object), exported there as Cycles does; converting this too doubled them
                 unsurfaced.append(obj.original.name)
                 continue
-            mesh = export_mesh(ctx, obj, matrix, name, cache if inst.is_instance else None)
+            if inst.is_instance or mesh_cache is None:
+                mesh = export_mesh(ctx, obj, matrix, name, cache if inst.is_instance else None)
+            else:
+                key = MeshCache.key(obj)
+                mesh_cache.reads += key not in mesh_cache.local
+                mesh = export_mesh(ctx, obj, matrix, name, mesh_cache.local, key=key)
             if mesh is not None:
                 # the illuminance-sensor flag (our object property) and Blender's object holdout, of the
                 # object or of its instancer (a curve or text whose mesh this is; as Cycles reads holdout)

@@ -81,3 +81,51 @@ def focus_distance_to_point(to_world, point, minimum=1e-4):
     view = -m[:3, 2] / np.linalg.norm(m[:3, 2])
     d = float(np.dot(np.asarray(point, dtype=np.float64) - m[:3, 3], view))
     return max(abs(d), float(minimum))
+
+
+VIEW_SENSOR_MM = 36.0  # the sensor width the view's camera is given (any: the field of view is what matters)
+
+
+def view_camera(view_matrix, window_matrix, width, height, scale_length=1.0):
+    """The core Camera that sees what a 3D viewport region shows.
+
+    view_matrix: RegionView3D.view_matrix (world → view); window_matrix: its projection
+    (OpenGL convention: perspective when the last row is (0, 0, -1, 0), else orthographic);
+    width, height: the region in pixels. The field of view and the off-centre window
+    (Blender's camera view with zoom and offset, lens shift) come from the projection:
+    perspective P₀₀ = 1/tan(half width angle), P₀₂ = the window centre's tangent × P₀₀;
+    orthographic P₀₀ = 2/width (Blender units), P₀₃ = -centre × P₀₀. An orthographic view's
+    eye moves back to its near clipping plane (Blender's orthographic views clip symmetrically
+    about the view point), so what the viewport shows in front of the view point is seen.
+    """
+    from ...core import Camera, constants
+
+    w, h = max(1, int(width)), max(1, int(height))
+    v = np.asarray(view_matrix, dtype=np.float64)
+    p = np.asarray(window_matrix, dtype=np.float64)
+    try:
+        to_world = np.linalg.inv(v)
+    except np.linalg.LinAlgError:
+        raise ExportError("the view matrix is singular") from None
+    to_world = camera_to_world_metres(to_world, scale_length)
+    perspective = abs(p[3, 3]) < 0.5
+    if perspective:
+        if not (p[0, 0] > 0.0 and p[1, 1] > 0.0):
+            raise ExportError("the view's projection is degenerate")
+        half_w = 1.0 / p[0, 0]  # tangent of half the horizontal angle
+        half_h = 1.0 / p[1, 1]
+        cx, cy = p[0, 2] / p[0, 0], p[1, 2] / p[1, 1]  # the window centre's tangents
+        extent = 2.0 * max(half_w, half_h)
+        return Camera(to_world=to_world, width=w, height=h, lens_mm=0.5 * VIEW_SENSOR_MM / half_w,
+                      sensor_width_mm=VIEW_SENSOR_MM, sensor_height_mm=VIEW_SENSOR_MM * h / w,
+                      sensor_fit=constants.FIT_HORIZONTAL, shift_x=cx / extent, shift_y=cy / extent)
+    half_w = 1.0 / p[0, 0]  # Blender units
+    half_h = 1.0 / p[1, 1]
+    cx, cy = -p[0, 3] / p[0, 0], -p[1, 3] / p[1, 1]
+    extent = 2.0 * max(half_w, half_h)
+    near = -(p[2, 3] + 1.0) / p[2, 2]  # view-space z of the near plane (positive: behind the eye)
+    if near > 0.0:
+        to_world[:3, 3] += to_world[:3, 2] * near * float(scale_length)
+    return Camera(to_world=to_world, width=w, height=h, sensor_fit=constants.FIT_HORIZONTAL,
+                  projection=constants.CAM_ORTHOGRAPHIC, ortho_scale=2.0 * half_w * float(scale_length),
+                  shift_x=cx / extent, shift_y=cy / extent)

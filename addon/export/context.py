@@ -20,7 +20,7 @@ class ExportContext:
     warning (see :meth:`warning`).
     """
 
-    def __init__(self, scale_length=1.0, should_cancel=None, n_coeffs=None):
+    def __init__(self, scale_length=1.0, should_cancel=None, n_coeffs=None, uplift_cache=None):
         from ...core import IORTable, SpectrumTable, constants
 
         if not scale_length > 0.0:
@@ -42,6 +42,8 @@ class ExportContext:
         self.textures = []  # core Texture records (image textures), see material.image_texture
         self.texture_index = {}  # (image, usage, interpolation, extension) -> (index or -1, mean)
         self._spectrum_index = {}
+        # (kind, rgb, coefficients) → the fitted spectrum, kept across exports by the viewport
+        self._uplift = uplift_cache if uplift_cache is not None else {}
         self.unsupported = {}  # category -> list of names
         self.notes = []  # substitutions made (linked inputs, ignored settings)
         self.material_users = {}  # material name -> names of the objects rendered with it (for the warning)
@@ -92,8 +94,10 @@ class ExportContext:
 
         key = ("R", tuple(rgb_of(rgb)))
         if key not in self._spectrum_index:
-            self._spectrum_index[key] = self.spectra.add(name, reflectance_from_rgb(key[1], self.n_coeffs),
-                                                         constants.SPECTRUM_BOUNDED)
+            fit = self._uplift.get(key + (self.n_coeffs,))
+            if fit is None:
+                fit = self._uplift[key + (self.n_coeffs,)] = reflectance_from_rgb(key[1], self.n_coeffs)
+            self._spectrum_index[key] = self.spectra.add(name, fit, constants.SPECTRUM_BOUNDED)
         return self._spectrum_index[key]
 
     def emission(self, name, rgb):
@@ -101,8 +105,10 @@ class ExportContext:
 
         key = ("E", tuple(rgb_of(rgb)))
         if key not in self._spectrum_index:
-            self._spectrum_index[key] = self.spectra.add(name, emission_from_rgb(key[1], self.n_coeffs),
-                                                         constants.SPECTRUM_UNBOUNDED)
+            fit = self._uplift.get(key + (self.n_coeffs,))
+            if fit is None:
+                fit = self._uplift[key + (self.n_coeffs,)] = emission_from_rgb(key[1], self.n_coeffs)
+            self._spectrum_index[key] = self.spectra.add(name, fit, constants.SPECTRUM_UNBOUNDED)
         return self._spectrum_index[key]
 
     def spectrum_file(self, path, kind, owner):

@@ -96,16 +96,18 @@ def slot_materials(obj):
     return mats
 
 
-def export_mesh(ctx, obj, matrix, name, cache=None):
+def export_mesh(ctx, obj, matrix, name, cache=None, key=None):
     """A core Mesh for evaluated object ``obj`` placed by 4×4 ``matrix``, or None if it has no triangles.
 
-    ``cache`` (a dict) shares the local triangles of objects instanced many times.
+    ``cache`` (a dict) shares the local triangles of objects instanced many times, under
+    ``key`` (default: the evaluated mesh's address, valid for one export).
     """
     from ...core import Mesh
 
-    key = None
-    if cache is not None and obj.data is not None:
+    if cache is not None and key is None and obj.data is not None:
         key = obj.data.as_pointer()
+    if cache is None:
+        key = None
     local = cache.get(key) if key is not None else None
     if local is None:
         local = local_triangles(obj)

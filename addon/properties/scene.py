@@ -39,6 +39,13 @@ COLOUR_OUTPUT_PASS = "Colour Output"  # render pass holding the image in an outp
 SCHEMA_VERSION = 2
 
 
+def _denoise_update(settings, context):
+    from ..denoise import sync_compositor
+
+    scene = settings.id_data
+    sync_compositor(scene)
+
+
 class SpectralGISceneSettings(bpy.types.PropertyGroup):
     """Render settings of the Spectral GI path tracer, stored in the scene."""
 
@@ -47,6 +54,19 @@ class SpectralGISceneSettings(bpy.types.PropertyGroup):
         description="Samples per pixel (spp, a count): camera paths traced through every pixel. "
                     "Noise falls as 1/√samples",
         default=64, min=1, soft_max=4096, max=1 << 24,
+    )
+    viewport_samples: IntProperty(
+        name="Viewport Samples",
+        description="Samples per pixel (a count) the Rendered viewport refines to before it stops; "
+                    "the first passes are coarse (one sample on blocks of 4×4, then 2×2 pixels)",
+        default=256, min=1, soft_max=4096, max=1 << 24,
+    )
+    use_denoise: BoolProperty(
+        name="Denoise",
+        description="Denoise the Combined pass of final renders with OpenImageDenoise (Blender's compositor "
+                    "Denoise node, guided by the Albedo and Normal passes). Luminance, XYZ, illuminance and "
+                    "the colour-science passes are never denoised: they stay measurements",
+        default=False, update=lambda self, context: _denoise_update(self, context),
     )
     max_bounces: IntProperty(
         name="Max Bounces",

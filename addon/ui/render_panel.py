@@ -95,6 +95,8 @@ class SPECTRALGI_PT_sampling(SpectralGIEnginePanel, bpy.types.Panel):
         col.use_property_split = True
         col.use_property_decorate = False
         col.prop(s, "samples")
+        col.prop(s, "viewport_samples")
+        col.prop(s, "use_denoise")
         col.prop(s, "max_bounces")
         col.prop(s, "sampler")
         row = col.row(align=True)

@@ -56,10 +56,12 @@ class Prepared:
     settings: settings_record.SettingsRecord
 
 
-def prepare(scene: Scene, measure=False) -> Prepared:
+def prepare(scene: Scene, measure=False, bvh=None) -> Prepared:
     """The kernel's records for ``scene``. measure=True prepares the illuminance render of
     its sensor meshes (core/integrators/sensors.py): one more material, a white (ρ = 1)
     two-sided Lambert, that the camera ray's first hit on a sensor takes instead of its own.
+    ``bvh``: a BVH built over exactly this scene's triangles (the same corners, in the same
+    order), used instead of building one (an interactive render whose geometry did not change).
 
     The spectrum table grows as the domains add their rows: the scene's spectra, the world
     image's emission basis, the textures' reflectance basis, the sensors' ρ = 1."""
@@ -68,7 +70,8 @@ def prepare(scene: Scene, measure=False) -> Prepared:
     cmf = film_record.cmf_table(scene.settings.observer)
     spec = bsdfs_record.spectrum_table(scene)
     v0, v1, v2, tri_mat_orig = geometry_record.triangles(scene)
-    bvh = build_bvh(v0, v1, v2)
+    if bvh is None or len(bvh.prims) != v0.shape[0]:
+        bvh = build_bvh(v0, v1, v2)
     tri_mat = np.ascontiguousarray(tri_mat_orig[bvh.prims], np.int32)
     materials = bsdfs_record.pack(scene, spec, cmf)
     emitters, tri_emitter, spec = lights_record.pack(scene, spec, cmf, bvh, tri_mat, materials.emis,

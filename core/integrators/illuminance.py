@@ -377,6 +377,9 @@ def batches(spp):
     return out
 
 
+SERIAL_SAMPLES = 512  # a batch of at most this many samples (all points) runs on the calling thread
+
+
 def _jobs(idx, b0, b1, chunk):
     """Rows (point, s0, s1, offset) splitting samples [b0, b1) of each point in ``idx`` into
     chunks of ``chunk``; offset into a (len(idx), b1 - b0) block of values."""
@@ -405,7 +408,7 @@ def _run_batch(prep, st, pts, mode, vcmf, idx, span, pool, n_threads, chunk):
         point_samples(jobs, int(j0), int(j1), pts, int(mode), vcmf, vals, prep.geometry, prep.materials,
                       prep.emitters, prep.media, prep.textures, st, scratch(n_par))
 
-    if pool is None:
+    if pool is None or idx.size * nb <= SERIAL_SAMPLES:  # too little work to hand to threads
         run(0, jobs.shape[0])
     else:
         cuts = np.unique(np.linspace(0, jobs.shape[0], 8 * n_threads + 1).astype(np.int64))

@@ -17,6 +17,7 @@ CSV convention used by every table in ``presets/``:
 
 from __future__ import annotations
 
+import functools
 import math
 import tomllib
 from pathlib import Path
@@ -75,6 +76,16 @@ def read_table(relpath: str | Path) -> tuple[np.ndarray, np.ndarray, list[str]]:
     and ``FileNotFoundError`` if the file does not exist.
     """
     path = _resolve(relpath)
+    st = path.stat()
+    wl, values, names = _read_table_cached(str(path), st.st_mtime_ns, st.st_size)
+    return wl.copy(), values.copy(), list(names)
+
+
+@functools.lru_cache(maxsize=64)
+def _read_table_cached(path_text, mtime_ns, size):
+    """The parsed table of one file version (keyed by its modification time and size): the
+    shipped tables are read once a process, not once a render."""
+    path = Path(path_text)
     text = path.read_text(encoding="utf-8")
 
     def fail(msg: str, line_no: int | None = None) -> ValueError:

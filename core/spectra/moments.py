@@ -275,10 +275,25 @@ def prepare_table(coeffs, kinds):
     return out
 
 
+_TABULATED = {}  # (coefficients, kind) → one spectrum on the grid; a scene's spectra change rarely
+_TABULATED_MAX = 4096
+
+
 def tabulate(coeffs, kinds):
-    """Reconstruct S spectra on the renderer's grid: float32 (S, N_LAMBDA)."""
+    """Reconstruct S spectra on the renderer's grid: float32 (S, N_LAMBDA).
+
+    Each spectrum is reconstructed once a process for the same coefficients and kind (the
+    viewport and repeated point calculations prepare the same scene again and again)."""
     wl = grid()
     out = np.zeros((len(kinds), wl.size), dtype=np.float32)
     for i, (c, k) in enumerate(zip(coeffs, kinds)):
-        out[i] = reconstruct(c, int(k), wl)
+        c = np.ascontiguousarray(c, dtype=np.float64)
+        key = (c.tobytes(), int(k))
+        row = _TABULATED.get(key)
+        if row is None:
+            row = reconstruct(c, int(k), wl).astype(np.float32)
+            if len(_TABULATED) >= _TABULATED_MAX:
+                _TABULATED.clear()
+            _TABULATED[key] = row
+        out[i] = row
     return out

@@ -2,7 +2,6 @@
 import importlib
 import math
 
-import numpy as np
 import pytest
 
 pytestmark = pytest.mark.blender

@@ -64,6 +64,31 @@ def _instance_name(inst, obj):
     return obj.name
 
 
+RAY_VISIBILITY = (("visible_diffuse", "diffuse"), ("visible_glossy", "glossy"),
+                  ("visible_transmission", "transmission"), ("visible_volume_scatter", "volume scatter"),
+                  ("visible_shadow", "shadow"))
+
+
+def object_features(ctx, obj, name, camera_flag=True):
+    """Record the Cycles object settings the renderer does not follow: ray visibility flags
+    (camera visibility is followed for lights, ``camera_flag`` False), shadow catcher,
+    light linking and particle hair."""
+    off = [label for prop, label in RAY_VISIBILITY if not getattr(obj, prop, True)]
+    if camera_flag and not getattr(obj, "visible_camera", True):
+        off.insert(0, "camera")
+    if off:
+        ctx.skip("object ray visibility (rendered visible to every ray)", f"{name} ({', '.join(off)} off)")
+    if getattr(obj, "is_shadow_catcher", False):
+        ctx.skip("shadow catchers (rendered as ordinary surfaces)", name)
+    link = getattr(obj, "light_linking", None)
+    if link is not None and (getattr(link, "receiver_collection", None) is not None
+                             or getattr(link, "blocker_collection", None) is not None):
+        ctx.skip("light and shadow linking (every light lights everything)", name)
+    for psys in getattr(obj, "particle_systems", ()):
+        if psys.settings.type == "HAIR":
+            ctx.skip("particle hair (not rendered)", f"{name}/{psys.name}")
+
+
 def export_scene(depsgraph, scene=None, should_cancel=None):
     """Export the scene evaluated by ``depsgraph``. ``should_cancel()`` is checked between objects.
 
@@ -97,6 +122,7 @@ def export_scene(depsgraph, scene=None, should_cancel=None):
                 # theirs (a mesh object), exported there as Cycles does; converting this too doubled them
                 unsurfaced.append(obj.original.name)
                 continue
+            object_features(ctx, obj.original, name)
             mesh = export_mesh(ctx, obj, matrix, name, cache if inst.is_instance else None)
             if mesh is not None:
                 # the illuminance-sensor flag (our object property) and Blender's object holdout, of the
@@ -110,14 +136,19 @@ def export_scene(depsgraph, scene=None, should_cancel=None):
                     if mat is not None:
                         ctx.material_user(mat.name, name)
         elif kind == "LIGHT":
+            object_features(ctx, obj.original, name, camera_flag=False)
             light = export_light(ctx, obj, matrix, name)
             if light is not None:
                 lights.append(light)
+        elif kind == "CURVES":
+            ctx.skip("hair curves objects (not rendered)", obj.name)
         elif kind not in HELPER_TYPES:
             ctx.skip(f"{kind.lower()} objects", obj.name)
     for obj_name in unsurfaced:
         if obj_name not in surfaced:
             ctx.skip("objects with no surface", obj_name)
+    if getattr(scene.render, "use_motion_blur", False):
+        ctx.skip("motion blur (rendered at the frame's instant)", scene.name)
     ctx.check_cancel()
     world = scene.world.evaluated_get(depsgraph) if scene.world is not None else None
     core_world = export_world(ctx, world)

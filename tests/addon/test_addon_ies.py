@@ -104,3 +104,35 @@ def test_bad_profile_file_is_reported_not_fatal(ext, bpy, tmp_path, content, pro
     obj.data.spectral_gi.profile_path = ""
     res = b.export(ext)
     assert "no file set" in res.warning
+
+
+@pytest.mark.slow
+def test_cycles_ies_texture_node_renders_at_cycles_brightness(ext, bpy, tmp_path):
+    """A point light lit for Cycles: its node tree's IES Texture node drives the Emission
+    strength. Exported as the light's profile at Cycles' scale (candela × 683 P / 177.83, the
+    IES node's 4π/177.83 per candela), the mean luminance of a floor under it matches Cycles'."""
+    b = ext.build
+    floor = b.shader("Grey", "ShaderNodeBsdfDiffuse", Color=(0.5, 0.5, 0.5, 1.0))
+    b.plane("Floor", size=12.0, material=floor)
+    obj = b.light("Lum", "POINT", location=(0.3, 0.0, 2.0), energy=20.0, shadow_soft_size=0.05)
+    obj.rotation_euler = (0.0, 0.0, math.radians(30.0))
+    data = obj.data
+    data.use_nodes = True
+    tree = data.node_tree
+    emission = next(n for n in tree.nodes if n.type == "EMISSION")
+    ies = tree.nodes.new("ShaderNodeTexIES")
+    ies.mode = "EXTERNAL"
+    ies.filepath = str(ext.core.photometric_presets()["wallwasher"])
+    tree.links.new(ies.outputs["Fac"], emission.inputs["Strength"])
+    b.camera(location=(0.0, 0.0, 6.0), rotation=(0.0, 0.0, 0.0), lens=20.0)
+    b.resolution(24, 24)
+    s = b.scene.spectral_gi
+    s.samples, s.max_bounces, s.seed = 64, 1, 1
+    res = b.export(ext)
+    L = _only_light(res)
+    assert L.profile == 0 and L.profile_mode == "peak"
+    assert "light node trees" not in res.warning if res.warning else True
+    s.compare_output_dir = str(tmp_path)
+    assert bpy.ops.spectral_gi.compare_cycles() == {"FINISHED"}
+    print(f"IES Texture node: luminance ratio {s.compare_luminance_ratio:.4f}")
+    assert s.compare_luminance_ratio == pytest.approx(1.0, abs=0.03)

@@ -69,16 +69,16 @@ RAY_VISIBILITY = (("visible_diffuse", "diffuse"), ("visible_glossy", "glossy"),
                   ("visible_shadow", "shadow"))
 
 
-def object_features(ctx, obj, name, camera_flag=True):
+def object_features(ctx, obj, name, light=False):
     """Record the Cycles object settings the renderer does not follow: ray visibility flags
-    (camera visibility is followed for lights, ``camera_flag`` False), shadow catcher,
-    light linking and particle hair."""
+    (a light's camera visibility is followed), shadow catcher (of geometry), light linking
+    and particle hair."""
     off = [label for prop, label in RAY_VISIBILITY if not getattr(obj, prop, True)]
-    if camera_flag and not getattr(obj, "visible_camera", True):
+    if not light and not getattr(obj, "visible_camera", True):
         off.insert(0, "camera")
     if off:
         ctx.skip("object ray visibility (rendered visible to every ray)", f"{name} ({', '.join(off)} off)")
-    if getattr(obj, "is_shadow_catcher", False):
+    if not light and getattr(obj, "is_shadow_catcher", False):
         ctx.skip("shadow catchers (rendered as ordinary surfaces)", name)
     link = getattr(obj, "light_linking", None)
     if link is not None and (getattr(link, "receiver_collection", None) is not None
@@ -136,7 +136,7 @@ def export_scene(depsgraph, scene=None, should_cancel=None):
                     if mat is not None:
                         ctx.material_user(mat.name, name)
         elif kind == "LIGHT":
-            object_features(ctx, obj.original, name, camera_flag=False)
+            object_features(ctx, obj.original, name, light=True)
             light = export_light(ctx, obj, matrix, name)
             if light is not None:
                 lights.append(light)

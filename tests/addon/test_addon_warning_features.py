@@ -2,6 +2,8 @@
 procedural texture replaced by a constant, particle hair and a Curves object, ray visibility
 flags, a shadow catcher, light linking, motion blur, a Principled coat and sheen — each with
 the object and node names."""
+import re
+
 import pytest
 
 pytestmark = pytest.mark.blender
@@ -44,3 +46,5 @@ def test_every_unsupported_feature_is_named_in_the_warning(ext, bpy):
                      "particle hair", "Furry/Fur", "hair curves objects", "'Strands'",
                      "light and shadow linking", "'Key'", "motion blur"):
         assert expected in w, (expected, w)
+    # only the floor is a shadow catcher (a light's flag means nothing)
+    assert re.search(r"shadow catchers \(rendered as ordinary surfaces\): 'Floor'(;|\.|$)", w), w

@@ -94,6 +94,31 @@ class MeshCache:
             del self.local[k]
 
 
+RAY_VISIBILITY = (("visible_diffuse", "diffuse"), ("visible_glossy", "glossy"),
+                  ("visible_transmission", "transmission"), ("visible_volume_scatter", "volume scatter"),
+                  ("visible_shadow", "shadow"))
+
+
+def object_features(ctx, obj, name, light=False):
+    """Record the Cycles object settings the renderer does not follow: ray visibility flags
+    (a light's camera visibility is followed), shadow catcher (of geometry), light linking
+    and particle hair."""
+    off = [label for prop, label in RAY_VISIBILITY if not getattr(obj, prop, True)]
+    if not light and not getattr(obj, "visible_camera", True):
+        off.insert(0, "camera")
+    if off:
+        ctx.skip("object ray visibility (rendered visible to every ray)", f"{name} ({', '.join(off)} off)")
+    if not light and getattr(obj, "is_shadow_catcher", False):
+        ctx.skip("shadow catchers (rendered as ordinary surfaces)", name)
+    link = getattr(obj, "light_linking", None)
+    if link is not None and (getattr(link, "receiver_collection", None) is not None
+                             or getattr(link, "blocker_collection", None) is not None):
+        ctx.skip("light and shadow linking (every light lights everything)", name)
+    for psys in getattr(obj, "particle_systems", ()):
+        if psys.settings.type == "HAIR":
+            ctx.skip("particle hair (not rendered)", f"{name}/{psys.name}")
+
+
 def export_scene(depsgraph, scene=None, should_cancel=None, mesh_cache=None, camera=None):
     """Export the scene evaluated by ``depsgraph``. ``should_cancel()`` is checked between objects.
 
@@ -131,6 +156,7 @@ def export_scene(depsgraph, scene=None, should_cancel=None, mesh_cache=None, cam
                 # theirs (a mesh object), exported there as Cycles does; converting this too doubled them
                 unsurfaced.append(obj.original.name)
                 continue
+            object_features(ctx, obj.original, name)
             if inst.is_instance or mesh_cache is None:
                 mesh = export_mesh(ctx, obj, matrix, name, cache if inst.is_instance else None)
             else:
@@ -149,14 +175,19 @@ def export_scene(depsgraph, scene=None, should_cancel=None, mesh_cache=None, cam
                     if mat is not None:
                         ctx.material_user(mat.name, name)
         elif kind == "LIGHT":
+            object_features(ctx, obj.original, name, light=True)
             light = export_light(ctx, obj, matrix, name)
             if light is not None:
                 lights.append(light)
+        elif kind == "CURVES":
+            ctx.skip("hair curves objects (not rendered)", obj.name)
         elif kind not in HELPER_TYPES:
             ctx.skip(f"{kind.lower()} objects", obj.name)
     for obj_name in unsurfaced:
         if obj_name not in surfaced:
             ctx.skip("objects with no surface", obj_name)
+    if getattr(scene.render, "use_motion_blur", False):
+        ctx.skip("motion blur (rendered at the frame's instant)", scene.name)
     ctx.check_cancel()
     world = scene.world.evaluated_get(depsgraph) if scene.world is not None else None
     core_world = export_world(ctx, world)

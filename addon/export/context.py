@@ -26,6 +26,7 @@ class ExportContext:
         if not scale_length > 0.0:
             raise ExportError(f"the scene's unit scale must be positive, got {scale_length}")
         self.scale_length = float(scale_length)
+        self.physical_layering = False  # the material being built asks for the reciprocal coated plastic
         self._should_cancel = should_cancel
         # Fourier order: coefficients per spectrum (the scene's Spectral GI setting)
         self.n_coeffs = constants.N_COEFFS_DEFAULT if n_coeffs is None else int(n_coeffs)

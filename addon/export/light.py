@@ -194,6 +194,81 @@ def _apply_profile(ctx, data, matrix, name, light, unit, amount):
         light.flux = float(light.intensity) * cone
 
 
+# Cycles' IES Texture node (intern/cycles util/ies.cpp, Blender 4.x/5.x) outputs the file's
+# candela (times its multiplier and ballast factors) times 4π/177.83: a candela read as W/sr
+# at D65's luminous efficacy, 177.83 lm/W, times the 4π of a point light's watts per W/sr.
+# The light's intensity is then P/(4π) · strength · that, i.e. P · strength · I_file / 177.83
+# W/sr, and at 683 lm per Blender watt the profile's candela are scaled by 683 P / 177.83:
+# a 177.83/683 W light shows the file's candela as they are.
+CYCLES_IES_EFFICACY = 177.83  # lm/W
+
+
+def cycles_ies_node(data):
+    """The IES Texture node of a point or spot light's node tree (Cycles), or None."""
+    tree = getattr(data, "node_tree", None)
+    if tree is None or not getattr(data, "use_nodes", False) or data.type not in ("POINT", "SPOT"):
+        return None
+    for node in tree.nodes:
+        if node.type == "TEX_IES" and not getattr(node, "mute", False) and any(
+                o.is_linked for o in node.outputs):
+            return node
+    return None
+
+
+def _ies_node_profile(ctx, node, name):
+    """Index of the profile of an IES Texture node (its file, or its internal text), or None."""
+    import bpy
+
+    if getattr(node, "mode", "EXTERNAL") == "INTERNAL":
+        text = getattr(node, "ies", None)
+        if text is None:
+            ctx.skip("IES Texture nodes with no text", name)
+            return None
+        import tempfile
+        from pathlib import Path
+
+        folder = Path(tempfile.mkdtemp(prefix="spectral_gi_ies_"))
+        path = folder / (Path(text.name).stem + ".ies")
+        path.write_text(text.as_string(), encoding="utf-8")
+    else:
+        raw = str(getattr(node, "filepath", "") or "")
+        if not raw:
+            ctx.skip("IES Texture nodes with no file", name)
+            return None
+        path = bpy.path.abspath(raw)
+    from ...core import PhotometricError
+
+    try:
+        return _profile_index(ctx, str(path))
+    except (PhotometricError, OSError) as exc:
+        ctx.skip("light profiles that could not be read", f"{name}: {exc}")
+        return None
+
+
+def _apply_cycles_ies(ctx, node, matrix, name, light, unit):
+    """The light's IES Texture node as its profile, at Cycles' brightness (see above)."""
+    index = _ies_node_profile(ctx, node, name)
+    if index is None:
+        return
+    prof = ctx.profiles[index]
+    light.profile = index
+    light.axis_u = light_x_axis(matrix)
+    strength = node.inputs["Strength"].default_value if "Strength" in node.inputs else 1.0
+    if "Strength" in node.inputs and node.inputs["Strength"].is_linked:
+        ctx.note(f"{name}: the IES Texture node's Strength is linked, used its unlinked value")
+    if "Vector" in node.inputs and node.inputs["Vector"].is_linked:
+        ctx.note(f"{name}: the IES Texture node's Vector input is ignored (the light's own frame)")
+    if unit != "blender_W":
+        ctx.note(f"{name}: IES Texture node with a photometric unit: the unit's value is the profile's peak")
+        light.profile_mode = "peak"
+        return
+    peak = float(np.max(prof.candela)) if prof.candela.size else 0.0
+    # light.intensity holds the light's candela without a profile, 683 P lum(rgb) / (4π)
+    light.intensity = float(light.intensity) * 4.0 * math.pi * max(float(strength), 0.0) * peak \
+        / CYCLES_IES_EFFICACY
+    light.profile_mode = "peak"
+
+
 def export_light(ctx, obj, matrix, name):
     """A core Light for evaluated light object ``obj`` placed by ``matrix``, or None (recorded as skipped)."""
     from ...core import Light, constants
@@ -203,7 +278,8 @@ def export_light(ctx, obj, matrix, name):
     if kind not in ("AREA", "POINT", "SPOT", "SUN"):
         ctx.skip(f"{kind.lower()} lights", name)
         return None
-    if getattr(data, "node_tree", None) is not None and getattr(data, "use_nodes", False):
+    ies_node = cycles_ies_node(data)
+    if ies_node is None and getattr(data, "node_tree", None) is not None and getattr(data, "use_nodes", False):
         ctx.skip("light node trees", name)
     unit, value, source, temperature, preset = _settings(data)
     power = light_power_watts(data.energy, getattr(data, "exposure", 0.0))
@@ -234,7 +310,12 @@ def export_light(ctx, obj, matrix, name):
             luminance=sphere_luminance(intensity, radius), two_sided=False, visible=visible,
             radius=radius, intensity=intensity, direction=light_direction(matrix),
             spot_angle=spot_angle, spot_blend=spot_blend)
-        _apply_profile(ctx, data, matrix, name, light, unit, amount)
+        if ies_node is not None and profile_file(data) is None:
+            _apply_cycles_ies(ctx, ies_node, matrix, name, light, unit)
+        else:
+            if ies_node is not None:
+                ctx.note(f"{name}: the light's Spectral GI profile is used, not its IES Texture node")
+            _apply_profile(ctx, data, matrix, name, light, unit, amount)
         return light
     # SUN
     angle = max(0.0, float(data.angle))

@@ -440,7 +440,15 @@ def _principled(ctx, owner, node):
             plastic = _leaf(name=f"{owner}: diffuse", model=constants.MAT_LAMBERT, params=lambert_params(),
                             reflectance=_refl(ctx, owner, base))
         else:
-            plastic = _leaf(name=f"{owner}: plastic", model=constants.MAT_PLASTIC, params=plastic_params(ax, ay),
+            if ctx.physical_layering:
+                layering = dict(layering="physical")
+                if getattr(node, "distribution", "GGX") == "MULTI_GGX":
+                    ctx.note(f"{owner}: physical layering: the specular layer has no multiple-scattering "
+                             "compensation (single-scattering GGX)")
+            else:  # Cycles' Principled layering (core/bsdfs/plastic.py)
+                layering = dict(layering="cycles", multiscatter=getattr(node, "distribution", "GGX") == "MULTI_GGX")
+            plastic = _leaf(name=f"{owner}: plastic", model=constants.MAT_PLASTIC,
+                            params=plastic_params(ax, ay, **layering),
                             reflectance=_refl(ctx, owner, base), specular=_tint(ctx, f"{owner} tint", spec_tint),
                             ior=coat_ior)
     if metal is not None and base_tex >= 0:
@@ -785,7 +793,11 @@ def build_material(ctx, mat):
     if override:
         root = _finish(ctx, name, override_tree(ctx, mat, settings, node), emission_terms(ctx, name, node))
     else:
-        bsdf, emissions = _shader(ctx, name, node)
+        ctx.physical_layering = bool(getattr(settings, "physical_layering", False))
+        try:
+            bsdf, emissions = _shader(ctx, name, node)
+        finally:
+            ctx.physical_layering = False
         root = _finish(ctx, name, bsdf, emissions)
     root.interior = interior  # e.g. a glass holding a coloured liquid
     return root

@@ -105,6 +105,12 @@ def make_settings_class():
                         "or percent) lines, optional header; a bad file is reported and the node colour used")
         two_sided: BoolProperty(name="Two-Sided", default=True,
                                 description="Reflect on both sides of the surface (off: black from behind)")
+        physical_layering: BoolProperty(
+            name="Physical Layering", default=False,
+            description="Principled BSDF: render the specular layer over the diffuse base as a reciprocal, "
+                        "energy-conserving coated plastic (the base sees the coat's Fresnel transmission on the "
+                        "way in and out) instead of Cycles' layering (the base weighted by one minus the "
+                        "specular albedo towards the viewer). Darker than Cycles under grazing light")
 
     return SpectralGIMaterialSettings
 

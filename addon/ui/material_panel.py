@@ -33,6 +33,7 @@ def draw_settings(layout, settings):
     model = settings.model
     if model == "AUTO":
         col.label(text="Translated from the shader nodes", icon="NODETREE")
+        col.prop(settings, "physical_layering")
         return
     for name in PARAMETERS[model]:
         if name == "spectrum":

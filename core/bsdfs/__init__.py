@@ -10,7 +10,8 @@ core/constants.py) and a float64[16] parameter row (``params``).
 * ``specular``   mirror (37), smooth dielectric (38-42), smooth conductor (42)
 * ``microfacet`` GGX distribution, Smith masking, visible-normal sampling
 * ``ggx``        rough conductor and rough dielectric (Walter et al. 2007)
-* ``plastic``    rough dielectric coat over a Lambertian base, Kelemen-style coupling
+* ``plastic``    rough dielectric coat over a Lambertian base: Kelemen-style (reciprocal) or Cycles' layering
+* ``layering``   tabulated GGX albedos of the Cycles layering (tables in ``layering_tables``)
 * ``batch``      the entry kernel ``bsdf_batch`` and its wrappers evaluate / pdf / sample
 * ``albedo``     directional-hemispherical reflectance and transmittance (items 45-46)
 * ``artist``     conductor (η, κ) from a reflectivity and an edge tint (Gulbrandsen 2014), NumPy

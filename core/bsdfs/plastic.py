@@ -49,12 +49,45 @@ the base (cosine-weighted); the pdf is the mixture P_coat p_ggx + (1 − P_coat)
 whichever lobe drew wi, so weights are f cos θi / pdf of the whole BSDF (MIS-consistent).
 Roughness is clamped to α ≥ ALPHA_MIN = 1e-4 like the other GGX models: the coat stays a
 density (no delta component) and nearly smooth there, with D ≤ 1/(π α²) ≈ 3·10⁷.
+
+Cycles layering (row entry P_LAYERING = LAYERING_CYCLES; the Principled BSDF's default)
+-------------------------------------------------------------------------------------
+The layering of Cycles' Principled BSDF (Blender 4.x/5.x, intern/cycles kernel/svm/closure.h,
+``closure_layering_weight``; kernel/closure/bsdf_microfacet.h): the coat is a GGX lobe with
+Cycles' "generalised Schlick" Fresnel of the real curve, and the base is weighted by one
+minus the coat's directional albedo *towards the viewer only*::
+
+    f_coat = Fc(wo·h) D G2 / (4 cos θo cos θi) · k(μo),      Fc(c) = F0t + (1 − F0t) s(c)
+    f_base = ρ/π · (1 − A(μo)),                               μo = cos θo
+
+with F0 = ((η−1)/(η+1))², F0t = min(F0 rb, 1) (the tint scales the normal-incidence
+reflectance only; grazing reflection stays white) and s(c) = (F(c, η) − F0)/(1 − F0).
+A(μo) = (F0t + (1 − F0t) s̄) · E k is Cycles' estimate of the coat's albedo, with the
+tables of layering.py: E(r, μo) the GGX albedo, s̄(r, μo, η) the mean Fresnel factor over
+the visible normals, r = (α_x α_y)^¼.
+
+Multiple scattering (row entry P_MULTISCATTER = 1; Cycles' "Multiscatter GGX", the
+Principled default): k(μo) = 1 + F_ms (1 − E)/E with F_ms = F_ss Ē / (1 − F_ss (1 − Ē)),
+F_ss = F0t + (1 − F0t)(F̄(η) − F0)/(1 − F0) (Kulla & Conty 2017, "Revisiting physically
+based shading at Imageworks", as Cycles' ``microfacet_ggx_preserve_energy`` applies it;
+F̄ is the exact hemispherical Fresnel average where Cycles uses a fit of it). Without it
+(Cycles' "GGX") k = 1 and A = F0t + (1 − F0t) s̄.
+
+This is *not* reciprocal (k and the base weight depend on wo alone) and not exactly
+energy-conserving (A is an estimate). The base is weighted per wavelength by 1 − A(λ);
+Cycles weights it by one minus the largest of its three colour channels, which is the
+same for an untinted coat (the default) and differs for a tinted one. Sampling is the
+same mixture as above with P_coat = Σ_λ A / Σ_λ (A + ρ (1 − A)), in evaluation and
+sampling alike.
 """
 from ..jit import function, inline
+import math
+
 from .common import INV_PI, clamp01, zero
 from .fresnel import fresnel_dielectric, fresnel_diffuse_reflectance
-from .ggx import ggx_reflect_sample_dir, ggx_reflection
-from .params import BSDF_GLOSSY, BSDF_REFLECTION
+from .ggx import _alphas, ggx_reflect_sample_dir, ggx_reflection
+from .layering import ggx_albedo, ggx_albedo_avg, ggx_fresnel_mean
+from .params import BSDF_GLOSSY, BSDF_REFLECTION, P_LAYERING, P_MULTISCATTER
 from .phong import lambert_sample_dir
 
 
@@ -73,8 +106,75 @@ def plastic_coat_prob(ra, rb, eta, cos_o):
     return s / t
 
 
+@inline
+def _cycles_terms(p, woz):
+    """(r, E, Ē, multiscatter) of the Cycles layering at μo = woz."""
+    ax, ay = _alphas(p)
+    r = math.sqrt(math.sqrt(ax * ay))
+    return r, ggx_albedo(r, woz), ggx_albedo_avg(r), p[P_MULTISCATTER] != 0.0
+
+
+@inline
+def _cycles_layer(r, e_ss, e_avg, ms, tint, e, woz):
+    """(F0, F0t, k, A) of one wavelength (module docstring, Cycles layering)."""
+    f0 = ((e - 1.0) / (e + 1.0)) ** 2
+    f0t = min(f0 * clamp01(tint), 1.0)
+    f_est = f0t + (1.0 - f0t) * ggx_fresnel_mean(r, woz, e)
+    k = 1.0
+    if ms and e_ss > 0.0 and f0 < 1.0:
+        s_avg = clamp01((fresnel_diffuse_reflectance(e) - f0) / (1.0 - f0))
+        f_ss = f0t + (1.0 - f0t) * s_avg
+        f_ms = f_ss * e_avg / (1.0 - f_ss * (1.0 - e_avg))
+        k = 1.0 + f_ms * (1.0 - e_ss) / e_ss
+        return f0, f0t, k, f_est * e_ss * k
+    return f0, f0t, k, f_est
+
+
+@inline
+def _cycles_coat_prob(p, ra, rb, eta, woz):
+    r, e_ss, e_avg, ms = _cycles_terms(p, woz)
+    s = 0.0
+    t = 0.0
+    for i in range(ra.shape[0]):
+        _, _, _, a_c = _cycles_layer(r, e_ss, e_avg, ms, rb[i], eta[i], woz)
+        s += a_c
+        t += a_c + clamp01(ra[i]) * (1.0 - clamp01(a_c))
+    if not (t > 0.0):
+        return -1.0
+    return s / t
+
+
+@function
+def plastic_cycles_eval(p, ra, rb, eta, wox, woy, woz, wix, wiy, wiz, out_f, want_f):
+    """The Cycles layering (module docstring)."""
+    doh, base, pdf_c = ggx_reflection(p, wox, woy, woz, wix, wiy, wiz, want_f)
+    r, e_ss, e_avg, ms = _cycles_terms(p, woz)
+    s = 0.0
+    t = 0.0
+    for i in range(ra.shape[0]):
+        e = eta[i]
+        f0, f0t, k, a_c = _cycles_layer(r, e_ss, e_avg, ms, rb[i], e, woz)
+        a = clamp01(ra[i])
+        s += a_c
+        t += a_c + a * (1.0 - clamp01(a_c))
+        if want_f:
+            v = a * INV_PI * (1.0 - clamp01(a_c))
+            if doh > 0.0 and f0 < 1.0:
+                sc = clamp01((fresnel_dielectric(doh, e) - f0) / (1.0 - f0))
+                v += (f0t + (1.0 - f0t) * sc) * base * k
+            out_f[i] = v
+    if not (t > 0.0):
+        if want_f:
+            zero(out_f)
+        return 0.0
+    pc = s / t
+    return pc * pdf_c + (1.0 - pc) * wiz * INV_PI
+
+
 @function
 def plastic_eval(p, ra, rb, eta, wox, woy, woz, wix, wiy, wiz, out_f, want_f):
+    if p[P_LAYERING] != 0.0:
+        return plastic_cycles_eval(p, ra, rb, eta, wox, woy, woz, wix, wiy, wiz, out_f, want_f)
     doh, base, pdf_c = ggx_reflection(p, wox, woy, woz, wix, wiy, wiz, want_f)
     s = 0.0
     t = 0.0
@@ -104,7 +204,10 @@ def plastic_eval(p, ra, rb, eta, wox, woy, woz, wix, wiy, wiz, out_f, want_f):
 
 @function
 def plastic_sample_dir(p, ra, rb, eta, wox, woy, woz, u1, u2, u3):
-    pc = plastic_coat_prob(ra, rb, eta, woz)
+    if p[P_LAYERING] != 0.0:
+        pc = _cycles_coat_prob(p, ra, rb, eta, woz)
+    else:
+        pc = plastic_coat_prob(ra, rb, eta, woz)
     if pc < 0.0:
         return 0.0, 0.0, 1.0, 0
     if u3 < pc:

@@ -463,6 +463,14 @@ def _validate_materials(scene, spec_ref):
                 _fail(f"{nm}.params", "contains NaN or Inf")
             if row.size and np.abs(row).max() > 1e9:
                 _fail(f"{nm}.params", f"a parameter of magnitude {np.abs(row).max():.3g} (at most 1e9)")
+            if m.model == C.MAT_PLASTIC and row.size > 4:
+                layering, multiscatter = float(row[3]), float(row[4])
+                if layering not in (0.0, 1.0):
+                    _fail(f"{nm}.params", f"plastic layering (entry 3) must be 0 (physical) or 1 (cycles), "
+                          f"got {layering:g}")
+                if multiscatter not in (0.0, 1.0) or (multiscatter == 1.0 and layering != 1.0):
+                    _fail(f"{nm}.params", f"plastic multiscatter (entry 4) must be 0, or 1 with layering 1 (cycles), "
+                          f"got {multiscatter:g}")
         if m.model in (C.MAT_MIX, C.MAT_ADD):
             row = list(m.params or [])
             if len(row) < 3:

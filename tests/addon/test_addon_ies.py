@@ -104,3 +104,44 @@ def test_bad_profile_file_is_reported_not_fatal(ext, bpy, tmp_path, content, pro
     obj.data.spectral_gi.profile_path = ""
     res = b.export(ext)
     assert "no file set" in res.warning
+
+
+@pytest.mark.slow
+def test_cycles_ies_texture_node_renders_at_cycles_brightness(ext, bpy):
+    """A point light lit for Cycles: its node tree's IES Texture node (a Lambertian downlight,
+    1000 cd cos θ) drives the Emission strength. Exported as the light's profile at Cycles'
+    scale (candela × 683 P / 177.83, the IES node's 4π/177.83 per candela: 76 815 cd at the peak
+    for 20 W), the mean luminance of a grey floor under it is the closed form ρ/π · I(θ) cos θ / d²
+    averaged over the view (296.0 cd/m²; a Cycles render of the same scene from a plain bpy
+    session gives 296.1)."""
+    b = ext.build
+    floor = b.shader("Grey", "ShaderNodeBsdfDiffuse", Color=(0.5, 0.5, 0.5, 1.0))
+    b.plane("Floor", size=12.0, material=floor)
+    obj = b.light("Lum", "POINT", location=(0.3, 0.0, 2.0), energy=20.0, shadow_soft_size=0.05)
+    data = obj.data
+    data.use_nodes = True
+    tree = data.node_tree
+    emission = next(n for n in tree.nodes if n.type == "EMISSION")
+    ies = tree.nodes.new("ShaderNodeTexIES")
+    ies.mode = "EXTERNAL"
+    ies.filepath = str(ext.core.photometric_presets()["cosine_downlight"])
+    tree.links.new(ies.outputs["Fac"], emission.inputs["Strength"])
+    b.camera(location=(0.0, 0.0, 6.0), rotation=(0.0, 0.0, 0.0), lens=20.0)
+    b.resolution(16, 16)
+    s = b.scene.spectral_gi
+    s.samples, s.max_bounces, s.seed = 16, 1, 1
+    res = b.export(ext)
+    L = _only_light(res)
+    assert L.profile == 0 and L.profile_mode == "peak"
+    assert L.intensity == pytest.approx(K_M * 20.0 * 1000.0 / 177.83, rel=1e-6)
+    assert res.warning is None or "light node trees" not in res.warning
+    film, _ = ext.core.render(res.scene, threads=2)
+    ours = float(film.develop().luminance.mean())
+    n, t = 160, 18.0 / 20.0  # the closed form over the view (the filter barely changes this smooth mean)
+    u = ((np.arange(n) + 0.5) / n * 2 - 1) * t * 6.0
+    x, y = np.meshgrid(u, u)
+    d2 = (x - 0.3) ** 2 + y ** 2 + 4.0
+    cos = 2.0 / np.sqrt(d2)
+    closed = float((0.5 / math.pi * L.intensity * cos * cos / d2).mean())
+    assert closed == pytest.approx(296.0, abs=0.1)
+    assert ours == pytest.approx(closed, rel=0.02)

@@ -50,6 +50,12 @@ CASES = {
     "plastic_aniso_eta1.33": (C.MAT_PLASTIC, B.plastic_params(0.03, 0.3), RA, RB, np.full(NW, 1.33), 0.0),
     "plastic_0.1_white_dispersive": (C.MAT_PLASTIC, B.plastic_params(0.1), np.ones(NW), np.ones(NW),
                                      np.array([1.53, 1.52, 1.51, 1.50]), 0.0),
+    "plastic_cycles_0.3_ms": (C.MAT_PLASTIC, B.plastic_params(0.3, layering="cycles", multiscatter=True), RA, RB, ETA,
+                              0.0),
+    "plastic_cycles_0.05_eta2.4": (C.MAT_PLASTIC, B.plastic_params(0.05, layering="cycles"), RA, RB,
+                                   np.full(NW, 2.4), 0.0),
+    "plastic_cycles_aniso_ms": (C.MAT_PLASTIC, B.plastic_params(0.03, 0.3, layering="cycles", multiscatter=True), RA,
+                                RB, np.full(NW, 1.33), 0.0),
 }
 
 

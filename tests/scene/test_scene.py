@@ -217,3 +217,22 @@ def test_calculation_surfaces_are_validated():
     sc.calculation_surfaces = ["desk"]
     with pytest.raises(S.SceneError, match=r"calculation_surfaces\[0\]: expected a CalculationSurface"):
         S.validate(sc)
+
+
+def test_plastic_layering_entries_are_checked():
+    """The plastic row's layering (entry 3: 0 physical, 1 cycles) and multiscatter (entry 4:
+    only with cycles) take those values only; the error names the material and the entry."""
+    from spectral_gi.core import bsdfs as B
+
+    sc = furnace_scene(0.5, 1.0)
+    sc.materials[0].model = C.MAT_PLASTIC
+    for row in (B.plastic_params(0.3), B.plastic_params(0.3, layering="cycles", multiscatter=True)):
+        sc.materials[0].params = list(row)
+        S.validate(sc)
+    for entry, value, match in ((3, 2.0, "layering \\(entry 3\\)"), (3, 0.5, "layering"),
+                                (4, 1.0, "multiscatter \\(entry 4\\)")):
+        row = B.plastic_params(0.3)
+        row[entry] = value
+        sc.materials[0].params = list(row)
+        with pytest.raises(S.SceneError, match=f"materials\\[0\\].*params: plastic {match}"):
+            S.validate(sc)

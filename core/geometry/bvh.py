@@ -654,12 +654,16 @@ def n_blocks(cnt):
 
 
 @inline
-def leaf_closest(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, tri_ids, ref, cnt, tmin, best_t, best_p, best_q):
-    """The closest hit so far (t, prim, q) after testing the leaf whose blocks start at
-    ``ref`` (``cnt`` triangles): each block's nearest lane hit before the closest so far
+def leaf_closest(rf, ru, tris, tri_ids, ref, cnt, tmin, best):
+    """The closest hit so far ``best`` = (t, prim, q) after testing the leaf whose blocks
+    start at ``ref`` (``cnt`` triangles) with the ray's constants ``rf``, ``ru``
+    (``_ray_tuples``): each block's nearest lane hit before the closest so far
     (``hit4_nearest``; ties go to the first triangle, as one by one). q = 4 block + lane
     locates the hit in ``tris`` for its barycentrics, which ``closest_hit`` computes once,
     for the final hit only."""
+    _ox, _oy, _oz, _ix, _iy, _iz, sx, sy, sz, okx, oky, okz = rf
+    ukx, uky, ukz = ru[0], ru[1], ru[2]
+    best_t, best_p, best_q = best
     for b in range(ref, ref + n_blocks(cnt)):
         ub = uidx(b)
         ln, t = hit4_nearest(tris, ub, ukx, uky, ukz, okx, oky, okz, sx, sy, sz, tmin, best_t)
@@ -721,12 +725,14 @@ def _push(stack, fstack, sp, links, rec, c, t):
 
 
 @inline
-def _visit_record(nodes, links, tris, rec, ox, oy, oz, ix, iy, iz, nx, ny, nz, fx, fy, fz, tmax, stack, fstack, sp,
-                  nearest):
-    """The children of record ``rec`` the ray enters before ``tmax`` (``simd.slab4``):
-    pushed, and then, if ``nearest``, ordered so the nearest is on top (insertion sort of
-    at most four entries), else left in child order. Children the ray is to visit later
-    are prefetched. Returns the new stack pointer."""
+def _visit_record(nodes, links, tris, rec, rf, ru, tmax, stack, fstack, sp, nearest):
+    """The children of record ``rec`` the ray (constants ``rf``, ``ru``: ``_ray_tuples``)
+    enters before ``tmax`` (``simd.slab4``): pushed, and then, if ``nearest``, ordered so
+    the nearest is on top (insertion sort of at most four entries), else left in child
+    order. Children the ray is to visit later are prefetched. Returns the new stack
+    pointer."""
+    ox, oy, oz, ix, iy, iz = rf[0], rf[1], rf[2], rf[3], rf[4], rf[5]
+    nx, ny, nz, fx, fy, fz = ru[3], ru[4], ru[5], ru[6], ru[7], ru[8]
     t0, t1, t2, t3 = slab4(nodes, rec, nx, ny, nz, fx, fy, fz, ox, oy, oz, ix, iy, iz, tmax)
     base = sp
     sp = _push(stack, fstack, sp, links, rec, 0, t0)
@@ -759,14 +765,10 @@ def _closest_step(rf, ru, tmin, nodes, links, tris, tri_ids, stack, fstack, ref,
     constants (``_ray_tuples``; tuples keep the call under CPython's 30 arguments, beyond
     which it becomes a ``*args`` call numba cannot inline). Returns the new state (ref,
     cnt, sp, best_t, best_p, best_q) and whether there is a next child."""
-    ox, oy, oz, ix, iy, iz, sx, sy, sz, okx, oky, okz = rf
-    ukx, uky, ukz, nx, ny, nz, fx, fy, fz = ru
     if cnt == 0:
-        sp = _visit_record(nodes, links, tris, uidx(ref), ox, oy, oz, ix, iy, iz, nx, ny, nz, fx, fy, fz, best_t,
-                           stack, fstack, sp, True)
+        sp = _visit_record(nodes, links, tris, uidx(ref), rf, ru, best_t, stack, fstack, sp, True)
     else:
-        best_t, best_p, best_q = leaf_closest(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, tri_ids,
-                                              ref, cnt, tmin, best_t, best_p, best_q)
+        best_t, best_p, best_q = leaf_closest(rf, ru, tris, tri_ids, ref, cnt, tmin, (best_t, best_p, best_q))
     while sp > _U0:
         sp -= _U3
         if fstack[sp + _U2] <= best_t:
@@ -779,11 +781,10 @@ def _occluded_step(rf, ru, tmin, tmax, nodes, links, tris, stack, fstack, ref, c
     """One step of ``occluded``: visit the record or leaf (ref, cnt), then pop the next
     child. Returns (ref, cnt, sp, state): state 1 a hit (the answer is True), 0 no child
     left (False), 2 go on. ``rf``, ``ru`` as in ``_closest_step``."""
-    ox, oy, oz, ix, iy, iz, sx, sy, sz, okx, oky, okz = rf
-    ukx, uky, ukz, nx, ny, nz, fx, fy, fz = ru
+    _ox, _oy, _oz, _ix, _iy, _iz, sx, sy, sz, okx, oky, okz = rf
+    ukx, uky, ukz = ru[0], ru[1], ru[2]
     if cnt == 0:
-        sp = _visit_record(nodes, links, tris, uidx(ref), ox, oy, oz, ix, iy, iz, nx, ny, nz, fx, fy, fz, tmax,
-                           stack, fstack, sp, False)
+        sp = _visit_record(nodes, links, tris, uidx(ref), rf, ru, tmax, stack, fstack, sp, False)
     elif leaf_any(okx, oky, okz, ukx, uky, ukz, sx, sy, sz, tris, ref, cnt, tmin, tmax):
         return ref, cnt, sp, 1
     if sp == _U0:
@@ -874,6 +875,13 @@ def trace_occluded(ox, oy, oz, dx, dy, dz, tmin, tmax, nodes, tris, stack):
 
 LANES = 12  # rays a batch kernel's thread keeps in flight at once
 CHUNK = 2048  # rays per parallel work item of the batch kernels
+# rows of a batch kernel's int64 lane state (LANE_ROWS, LANES): each lane's ray (-1: retired),
+# the child it enters next (reference, count) and, for closest hits, its best primitive so far
+L_RAY = 0
+L_REF = 1
+L_CNT = 2
+L_PRIM = 3
+LANE_ROWS = 4
 
 
 @inline
@@ -903,62 +911,64 @@ def _lane_u(lk, j):
 
 
 @inline
-def _refill(orig, dirs, j, nxt, hi, lf, lk, l_ray, l_ref, l_cnt, l_sp):
+def _refill(orig, dirs, j, nxt, hi, lf, lk, ls, l_sp):
     """Start lane ``j`` on ray ``nxt`` at the root if ``nxt < hi`` (then return nxt + 1),
-    else retire the lane (``l_ray[j] = -1``). Returns the next ray and whether it started."""
-    l_ref[j] = 0; l_cnt[j] = 0; l_sp[j] = 0
+    else retire the lane (ray -1 in the lane state ``ls``; ``l_sp`` the stack pointers).
+    Returns the next ray and whether it started."""
+    ls[L_REF, j] = 0; ls[L_CNT, j] = 0; l_sp[j] = 0
     if nxt < hi:
         _start_lane(orig, dirs, nxt, j, lf, lk)
-        l_ray[j] = nxt
+        ls[L_RAY, j] = nxt
         return nxt + 1, True
-    l_ray[j] = -1
+    ls[L_RAY, j] = -1
     return nxt, False
 
 
 @inline
-def _start_lanes(orig, dirs, lo, hi, lf, lk, l_ray, l_ref, l_cnt, l_sp):
+def _start_lanes(orig, dirs, lo, hi, lf, lk, ls, l_sp):
     """Start every lane on the rays from ``lo`` (while any are left before ``hi``).
     Returns the next ray and the number of lanes started."""
     nxt = lo
     active = 0
     for j in range(LANES):
-        nxt, started = _refill(orig, dirs, j, nxt, hi, lf, lk, l_ray, l_ref, l_cnt, l_sp)
+        nxt, started = _refill(orig, dirs, j, nxt, hi, lf, lk, ls, l_sp)
         active += started
     return nxt, active
 
 
 @function
-def _closest_lanes(orig, dirs, tmax, nodes, tris, lo, hi, t_out, p_out, stacks, lf, lk, l_ray, l_ref, l_cnt, l_sp, l_t,
-                   l_p):
+def _closest_lanes(orig, dirs, tmax, nodes, tris, lo, hi, t_out, p_out, stacks, lf, lk, ls, l_sp, l_t):
     """Closest hits of rays [lo, hi), ``LANES`` in flight (see ``trace_closest_batch``);
-    the other arguments are the caller's scratch. A function of its own: numba's parallel
-    array analysis cannot follow the lanes' tuples inside a prange body."""
+    the other arguments are the caller's scratch: the lanes' stacks, ray constants
+    (``_start_lane``), int64 state (rows ``L_RAY`` ...), stack pointers and best distances.
+    A function of its own: numba's parallel array analysis cannot follow the lanes' tuples
+    inside a prange body."""
     links = nodes.view(np.int32)
     tri_ids = tris.view(np.int32)
     fstacks = stacks.view(np.float32)
-    nxt, active = _start_lanes(orig, dirs, lo, hi, lf, lk, l_ray, l_ref, l_cnt, l_sp)
+    nxt, active = _start_lanes(orig, dirs, lo, hi, lf, lk, ls, l_sp)
     for j in range(active):  # lanes start in order, so the first ``active`` are running
-        l_t[j] = tmax[l_ray[j]]; l_p[j] = -1
+        l_t[j] = tmax[ls[L_RAY, j]]; ls[L_PRIM, j] = -1
     j = 0
     while active > 0:
-        if l_ray[j] >= 0:
+        if ls[L_RAY, j] >= 0:
             ref, cnt, sp, best_t, best_p, q, going = _closest_step(
                 _lane_f(lf, j), _lane_u(lk, j), 0.0, nodes, links, tris, tri_ids, stacks[j], fstacks[j],
-                l_ref[j], l_cnt[j], l_sp[j], l_t[j], l_p[j], np.int64(-1))
+                ls[L_REF, j], ls[L_CNT, j], l_sp[j], l_t[j], ls[L_PRIM, j], np.int64(-1))
             if going:
                 _prefetch_child(nodes, tris, ref, cnt)
-                l_ref[j] = ref; l_cnt[j] = cnt; l_sp[j] = sp; l_t[j] = best_t; l_p[j] = best_p
+                ls[L_REF, j] = ref; ls[L_CNT, j] = cnt; l_sp[j] = sp; l_t[j] = best_t; ls[L_PRIM, j] = best_p
             else:
-                i = l_ray[j]
+                i = ls[L_RAY, j]
                 if best_p < 0:
                     t_out[i] = np.inf
                     p_out[i] = -1
                 else:
                     t_out[i] = best_t
                     p_out[i] = best_p
-                nxt, started = _refill(orig, dirs, j, nxt, hi, lf, lk, l_ray, l_ref, l_cnt, l_sp)
+                nxt, started = _refill(orig, dirs, j, nxt, hi, lf, lk, ls, l_sp)
                 if started:
-                    l_t[j] = tmax[l_ray[j]]; l_p[j] = -1
+                    l_t[j] = tmax[ls[L_RAY, j]]; ls[L_PRIM, j] = -1
                 else:
                     active -= 1
         j += 1
@@ -967,23 +977,23 @@ def _closest_lanes(orig, dirs, tmax, nodes, tris, lo, hi, t_out, p_out, stacks, 
 
 
 @function
-def _occluded_lanes(orig, dirs, tmax, nodes, tris, lo, hi, out, stacks, lf, lk, l_ray, l_ref, l_cnt, l_sp):
+def _occluded_lanes(orig, dirs, tmax, nodes, tris, lo, hi, out, stacks, lf, lk, ls, l_sp):
     """Any-hit answers of rays [lo, hi), ``LANES`` in flight (see ``_closest_lanes``)."""
     links = nodes.view(np.int32)
     fstacks = stacks.view(np.float32)
-    nxt, active = _start_lanes(orig, dirs, lo, hi, lf, lk, l_ray, l_ref, l_cnt, l_sp)
+    nxt, active = _start_lanes(orig, dirs, lo, hi, lf, lk, ls, l_sp)
     j = 0
     while active > 0:
-        i = l_ray[j]
+        i = ls[L_RAY, j]
         if i >= 0:
             ref, cnt, sp, state = _occluded_step(_lane_f(lf, j), _lane_u(lk, j), 0.0, tmax[i], nodes, links, tris,
-                                                 stacks[j], fstacks[j], l_ref[j], l_cnt[j], l_sp[j])
+                                                 stacks[j], fstacks[j], ls[L_REF, j], ls[L_CNT, j], l_sp[j])
             if state == 2:
                 _prefetch_child(nodes, tris, ref, cnt)
-                l_ref[j] = ref; l_cnt[j] = cnt; l_sp[j] = sp
+                ls[L_REF, j] = ref; ls[L_CNT, j] = cnt; l_sp[j] = sp
             else:
                 out[i] = state == 1
-                nxt, started = _refill(orig, dirs, j, nxt, hi, lf, lk, l_ray, l_ref, l_cnt, l_sp)
+                nxt, started = _refill(orig, dirs, j, nxt, hi, lf, lk, ls, l_sp)
                 if not started:
                     active -= 1
         j += 1
@@ -1015,9 +1025,8 @@ def trace_closest_batch(orig, dirs, tmax, nodes, tris):
         lo = c * CHUNK
         hi = min(n, lo + CHUNK)
         _closest_lanes(orig, dirs, tmax, nodes, tris, lo, hi, t_out, p_out, np.empty((LANES, STACK_SIZE), np.int32),
-                       np.empty((LANES, 12)), np.empty((LANES, 9), np.uint64), np.empty(LANES, np.int64),
-                       np.empty(LANES, np.int64), np.empty(LANES, np.int64), np.empty(LANES, np.uint64),
-                       np.empty(LANES), np.empty(LANES, np.int64))
+                       np.empty((LANES, 12)), np.empty((LANES, 9), np.uint64), np.empty((LANE_ROWS, LANES), np.int64),
+                       np.empty(LANES, np.uint64), np.empty(LANES))
     return t_out, p_out
 
 
@@ -1035,6 +1044,6 @@ def trace_occluded_batch(orig, dirs, tmax, nodes, tris):
         lo = c * CHUNK
         hi = min(n, lo + CHUNK)
         _occluded_lanes(orig, dirs, tmax, nodes, tris, lo, hi, out, np.empty((LANES, STACK_SIZE), np.int32),
-                        np.empty((LANES, 12)), np.empty((LANES, 9), np.uint64), np.empty(LANES, np.int64),
-                        np.empty(LANES, np.int64), np.empty(LANES, np.int64), np.empty(LANES, np.uint64))
+                        np.empty((LANES, 12)), np.empty((LANES, 9), np.uint64),
+                        np.empty((LANE_ROWS, LANES), np.int64), np.empty(LANES, np.uint64))
     return out

@@ -665,7 +665,7 @@ def _segment(geo, mat, emt, st, smp, cfg, scr, o, d, t_lo, medium, depth, dim, p
     return t, prim, bu, bv, t_end, dim
 
 
-@fragment
+@inline
 def _roulette(st, smp, beta, q, depth, dim):
     """Russian roulette after a scattering event (``depth`` counts it): the path ends when its
     largest throughput ``q`` is 0, and from rr_depth on it survives with probability q < 1,
@@ -683,7 +683,7 @@ def _roulette(st, smp, beta, q, depth, dim):
     return True, dim
 
 
-@fragment
+@function
 def _medium_scatter(geo, mat, emt, med, st, smp, cfg, scr, o, d, seg, vol, depth, dim):
     """A scattering event in the medium ``vol`` = (medium, outer) at t_end along (o, d)
     (seg = (t, t_end, t_lo), t_end < t): the transmittance and albedo of the flight, next-event
@@ -730,7 +730,7 @@ def _medium_scatter(geo, mat, emt, med, st, smp, cfg, scr, o, d, seg, vol, depth
     return alive, px, py, pz, dx, dy, dz, prev_pdf, depth, dim
 
 
-@fragment
+@inline
 def _hit_point(geo, o, d, t, prim):
     """The surface hit at t along (o, d) on triangle ``prim``: (ok, px, py, pz, nx, ny, nz,
     area, cos_i) with n the unit geometric normal, area the triangle's, cos_i = -n·d; ok
@@ -752,7 +752,7 @@ def _hit_point(geo, o, d, t, prim):
     return True, px, py, pz, nx, ny, nz, area, cos_i
 
 
-@fragment
+@inline
 def _shading_normal(geo, prim, bu, bv, n, d, cos_i):
     """The shading normal at barycentrics (bu, bv) of ``prim``: the vertex normals
     interpolated, on the geometric normal n's side; n itself where the two disagree about the
@@ -782,7 +782,7 @@ def _shading_normal(geo, prim, bu, bv, n, d, cos_i):
     return snx, sny, snz
 
 
-@fragment
+@inline
 def _first_hit(fr, geo, st, x, y, prim, m, sn, d, t):
     """The camera ray's hit on ``prim`` (material m) at distance t: the normal, depth and hit
     count AOVs of pixel (x, y), then holdouts and sensors. Returns (material, transparent):
@@ -845,7 +845,7 @@ def _emission(geo, mat, emt, st, cfg, scr, o, hit, t, prim, m, prev_delta, prev_
             rad[i] += beta[i] * w * mat.emis_scale[m] * at(mat.spec, mat_emis[m], lc[i], lf[i])
 
 
-@fragment
+@inline
 def _pick_component(mat, st, smp, m, dim):
     """Mixes: one component of material m picked (Mix: by weight; Add: either, counted
     twice), one dimension per level. Returns (material, weight, dim)."""
@@ -892,7 +892,7 @@ def _surface_material(mat, txr, cfg, scr, m, prim, bu, bv, sn, d, cos_i):
     return tex_base, rough, cr, cg, cb, snx, sny, snz
 
 
-@fragment
+@inline
 def _shading_frame(sn, d):
     """The local frame around the shading normal sn (Duff et al. 2017) and the direction
     towards the ray's origin in it: (snx, sny, snz, tx, ty, tz, cx, cy, cz, wox, woy, woz)."""
@@ -913,7 +913,7 @@ def _shading_frame(sn, d):
     return snx, sny, snz, tx, ty, tz, cx, cy, cz, wox, woy, woz
 
 
-@fragment
+@inline
 def _albedo(mat, txr, m, tex_base, rgb, mix_w, axyz):
     """The albedo AOV's XYZ at the first diffuse or glossy hit: the textured base colour's
     (rgb weighing the reflectance basis rows) or material m's ρa, times the mix weight; axyz
@@ -1044,7 +1044,7 @@ def _bsdf_step(mat, st, smp, cfg, scr, dim, wo, model, pm, mix_w, dispersed):
     return flags, wix, wiy, wiz, pdf, q, dispersed, dim
 
 
-@fragment
+@inline
 def _next_ray(geo, med, cfg, scr, hit, shade, wi, prim, vol):
     """The sampled direction wi (local frame of ``shade``) in world space and the next ray's
     origin, offset from the hit to the side it leaves; a transmitted ray crosses into or out
@@ -1073,7 +1073,7 @@ def _next_ray(geo, med, cfg, scr, hit, shade, wi, prim, vol):
     return True, ox, oy, oz, dx, dy, dz, medium, outer
 
 
-@fragment
+@inline
 def _film_add(fr, y, x, scr, axyz, transp, photometric):
     """The path's estimate into pixel (x, y) of the film record: XYZ, count, Y² and the
     spectral bins (``_splat``), the albedo AOV's XYZ and the transparent-sample count."""
@@ -1098,12 +1098,16 @@ def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr):
     A serial kernel that releases the GIL: the renderer runs blocks of rows on a pool of
     Python threads (compiling a prange kernel takes four times as long, and numba's
     threading layers abort the process on concurrent launches). Rows never overlap, so
-    the film does not depend on the number of threads. Each bounce: ``_segment`` (trace,
-    free flight, analytic lights), ``_medium_scatter`` or the world or a surface hit
-    (``_hit_point``, ``_shading_normal``, ``_first_hit``: AOVs, holdouts, sensors;
-    ``_emission``; ``_pick_component``, ``_surface_material``; ``_surface_nee``;
-    ``_bsdf_step``, ``_next_ray``, ``_roulette``); then ``_film_add``. The fragments are
-    inlined into this body by numba (core/jit.py ``fragment``).
+    the film does not depend on the number of threads. Per sample ``_camera_sample``; each
+    bounce: ``_segment`` (trace, free flight, analytic lights), ``_medium_scatter`` or the
+    world or a surface hit (``_hit_point``, ``_shading_normal``, ``_first_hit``: AOVs,
+    holdouts, sensors; ``_emission``; ``_pick_component``, ``_surface_material``,
+    ``_shading_frame``, ``_albedo``; ``_surface_nee``; ``_bsdf_step``, ``_next_ray``,
+    ``_roulette``); then ``_film_add``. The large pieces of the body (camera sample,
+    segment, emission, surface material, surface NEE, BSDF step) are fragments, inlined
+    into it by numba (core/jit.py ``fragment``); the small ones are ``inline`` helpers,
+    which LLVM inlines; ``_medium_scatter``, off the path of scenes without media, is a
+    ``function`` (see docs/design/numba.md, the first compile).
     """
     height = fr.sums.shape[0]
     width = fr.sums.shape[1]

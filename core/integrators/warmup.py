@@ -30,10 +30,11 @@ import subprocess
 import sys
 
 # compiled by the second process: the BSDF dispatch (every model's eval and sample), the
-# emitter sampling, the image textures, the film splat and the sampler's draws; with the
-# BVH builder and the rest of the helpers, which this process compiles meanwhile, the two
-# shares take about the same time (in a timeline of a cold start, 37 s each, 2 s apart)
-HELPER_GROUP = frozenset({"bsdf_eval", "bsdf_sample", "_emitter_sample", "_textures", "_splat", "rnd_f", "rnd2"})
+# emitter sampling, the scattering in media, the image textures, the film add (with its
+# splat) and the sampler's draws; this process builds the BVH (compiling its builder) and
+# compiles the rest of the helpers meanwhile
+HELPER_GROUP = frozenset({"bsdf_eval", "bsdf_sample", "_emitter_sample", "_medium_scatter", "_textures",
+                          "_film_add", "rnd_f", "rnd2"})
 
 _PKG = __name__.rsplit(".core.", 1)[0]
 _ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))

@@ -41,6 +41,11 @@ from .photometry.profiles import preset_profiles as photometric_presets
 from .scene import Profile
 # lux on sensor meshes
 from .integrators.sensors import has_sensors, illuminance_image, illuminance_stats, render_illuminance
+# radiosity for diffuse scenes (compendium items 53, 55–62)
+from .integrators.radiosity import (
+    RadiositySolution, differential_form_factor, element_form_factors, form_factor_point_polygon,
+    form_factor_polygon_polygon, radiosity)
+from .integrators.radiosity import illuminance_at as radiosity_illuminance
 
 __all__ = [
     "constants",
@@ -66,6 +71,8 @@ __all__ = [
     "render_illuminance", "illuminance_stats", "illuminance_image", "has_sensors",
     "point_illuminance", "point_luminance", "vertical_illuminance", "cylindrical_illuminance",
     "semicylindrical_illuminance",
+    "radiosity", "RadiositySolution", "radiosity_illuminance", "form_factor_point_polygon",
+    "form_factor_polygon_polygon", "element_form_factors", "differential_form_factor",
 ]
 
 # lux and cd/m² at points (core/integrators/illuminance.py), imported on first use: the module

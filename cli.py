@@ -4,7 +4,7 @@
                        [--seed S] [--threads T] [--out FILE.exr] [--exposure EV]
     spectral-gi render-blend SCENE.blend [--out FILE.exr] [--spp N] [--compare-cycles] [--json REPORT.json]
     spectral-gi lux [SCENE] --sensors POINTS.pts [--out lux.csv] [--spp N | --rel-error E]
-                    [--max-depth D] [--seed S] [--threads T]
+                    [--max-depth D] [--seed S] [--threads T] [--method path|radiosity] [--max-edge M]
     spectral-gi save-default-scene OUT.json
 
 Without SCENE it renders the built-in Cornell box. Bad input prints one line
@@ -142,6 +142,11 @@ def _parser():
                     help="bounces after the first (default: unlimited, Russian roulette ends paths without bias)")
     lx.add_argument("--seed", type=_non_negative_int, help="random seed (default: the scene's)")
     lx.add_argument("--threads", type=_non_negative_int, default=0, help="worker threads (0: all cores)")
+    lx.add_argument("--method", choices=("path", "radiosity"), default="path",
+                    help="path: the path tracer (default); radiosity: a radiosity solution of the scene (diffuse "
+                         "materials; others replaced by their albedo), direct light gathered at each point")
+    lx.add_argument("--max-edge", type=float,
+                    help="radiosity: patch size in m (default: 1/16 of the scene's largest extent)")
     s = sub.add_parser("save-default-scene", help="write the built-in Cornell box as a scene file")
     s.add_argument("out", help="output scene file (.json; the .npz is written beside it)")
     return p
@@ -303,6 +308,13 @@ def _lux(args):
                                    threads=args.threads or None, progress=progress)
         done["spp"] = int(np.sum(spp))
         return lux, se
+
+    if args.method == "radiosity":
+        from .core.integrators.radiosity import lux_integrator
+
+        if args.max_edge is not None and not args.max_edge > 0:
+            raise SceneError(f"--max-edge must be a positive length in m, got {args.max_edge}")
+        estimate = lux_integrator(max_edge=args.max_edge, seed=args.seed or 0, threads=args.threads or None)
 
     if args.sensors is None:
         stem = Path(args.scene).with_suffix("").name if args.scene else args.builtin

@@ -46,6 +46,7 @@ from .integrators.radiosity import (
     RadiositySolution, differential_form_factor, element_form_factors, form_factor_point_polygon,
     form_factor_polygon_polygon, radiosity)
 from .integrators.radiosity import illuminance_at as radiosity_illuminance
+from .integrators.radiosity import lux_integrator as radiosity_lux_integrator
 
 __all__ = [
     "constants",
@@ -72,7 +73,7 @@ __all__ = [
     "point_illuminance", "point_luminance", "vertical_illuminance", "cylindrical_illuminance",
     "semicylindrical_illuminance",
     "radiosity", "RadiositySolution", "radiosity_illuminance", "form_factor_point_polygon",
-    "form_factor_polygon_polygon", "element_form_factors", "differential_form_factor",
+    "form_factor_polygon_polygon", "element_form_factors", "differential_form_factor", "radiosity_lux_integrator",
 ]
 
 # lux and cd/m² at points (core/integrators/illuminance.py), imported on first use: the module

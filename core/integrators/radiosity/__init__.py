@@ -9,7 +9,8 @@ illuminance at any point.
 """
 from .form_factors import (
     differential_form_factor, form_factor_point_polygon, form_factor_polygon_polygon, polygon_area)
-from .solve import RadiositySolution, element_form_factors, illuminance_at, radiosity
+from .solve import RadiositySolution, element_form_factors, illuminance_at, lux_integrator, radiosity
 
 __all__ = ["differential_form_factor", "form_factor_point_polygon", "form_factor_polygon_polygon", "polygon_area",
-           "element_form_factors", "radiosity", "RadiositySolution", "illuminance_at"]
+           "element_form_factors", "radiosity", "RadiositySolution", "illuminance_at",
+           "lux_integrator"]

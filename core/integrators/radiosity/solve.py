@@ -546,3 +546,34 @@ def illuminance_at(solution, points, normals, *, direct=True, indirect=True, n_p
     if indirect:
         H += F @ (solution.radiosity - Be)
     return C.K_M * (H @ ctx.v_band)
+
+
+def default_max_edge(scene):
+    """The patch size a lighting analysis uses without one: 1/16 of the scene's largest extent."""
+    tri, _, _ = meshing.scene_triangles(scene)
+    if tri.shape[0] == 0:
+        raise SceneError("radiosity: the scene has no surfaces to mesh into patches")
+    return float(np.ptp(tri.reshape(-1, 3), axis=0).max()) / 16.0
+
+
+def lux_integrator(**options):
+    """An illuminance integrator for the lighting analysis (core/lux/calculate.py): a callable
+    ``(scene, points, normals) → (lux, std_error)`` that solves the scene by :func:`radiosity`
+    with ``options`` once per scene (max_edge: default ``default_max_edge``) and gathers at the
+    points the analytic lights and emitting patches directly plus the solution's reflected
+    light (:func:`illuminance_at`). The error of radiosity is the mesh's, not sampling noise:
+    the standard errors returned are 0."""
+    cache = {}
+
+    def integrate(scene, points, normals):
+        key = id(scene)
+        if key not in cache:
+            opts = dict(options)
+            if opts.get("max_edge") is None:
+                opts["max_edge"] = default_max_edge(scene)
+            cache.clear()
+            cache[key] = (scene, radiosity(scene, **opts))
+        lux = illuminance_at(cache[key][1], points, normals)
+        return lux, np.zeros_like(lux)
+
+    return integrate

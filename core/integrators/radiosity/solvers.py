@@ -23,9 +23,9 @@ shots).
 * ``gauss_seidel``: the same update row by row, using the rows already updated; about
   half as many sweeps.
 * ``southwell``: progressive refinement (Cohen, Chen, Wallace and Greenberg 1988): the
-  patch with the most unshot power shoots it to every patch (the power system's column,
-  F_{i→j} A_i / A_j by reciprocity, i.e. row i of F), so the first steps already light the
-  scene; ``ambient`` gives the ambient term of the display, the unshot power spread
+  patch with the most unshot power shoots it to every patch (row i of F, the share of
+  its power that reaches each patch, so the power system's answer), so the first steps
+  already light the scene; ``ambient`` gives the ambient term of the display, the unshot power spread
   uniformly with the mean reflectance's interreflection factor 1/(1 − ρ̄).
 * the matrix-free stochastic solver lives in ``solve.py`` (it needs the scene's rays).
 """
@@ -53,6 +53,7 @@ class SolveStats:
     converged: bool
     cancelled: bool = False
     ambient: np.ndarray | None = None  # Southwell: the display's ambient term per column (``ambient``)
+    columns: int = 0  # right-hand sides solved (core.radiosity: after the reduction of the bands)
 
 
 def _check(F, rho, E, area):

@@ -118,8 +118,11 @@ def test_solvers_agree_items_61_62():
     sols = {m: core.radiosity(sc, max_edge=0.5, n_vis=1, method=m, tol=1e-9)
             for m in ("jacobi", "jacobi-power", "gauss-seidel", "southwell")}
     ref = sols["jacobi"].illuminance
-    for m, s in sols.items():
-        np.testing.assert_allclose(s.illuminance, ref, rtol=1e-6, err_msg=m)
+    np.testing.assert_allclose(sols["gauss-seidel"].illuminance, ref, rtol=1e-6)
+    np.testing.assert_allclose(sols["southwell"].illuminance, sols["jacobi-power"].illuminance, rtol=1e-6)
+    # the power system (and shooting) takes F_{j→i} from the matrix's columns, the radiosity system
+    # (gathering) F_{i→j} from its rows: they agree to the matrix's reciprocity error
+    np.testing.assert_allclose(sols["jacobi-power"].illuminance, ref, rtol=0.015)
     assert sols["gauss-seidel"].stats[0].iterations < sols["jacobi"].stats[0].iterations
     st = core.radiosity(sc, max_edge=0.5, n_vis=1, method="stochastic", rays=200_000, tol=1e-4)
     a = st.patches.area
@@ -186,7 +189,7 @@ def test_bands_are_exact_in_the_limit_and_close_at_10_nm():
     err = np.abs(coarse.illuminance[lit] / fine.illuminance[lit] - 1)
     assert err.max() < 2e-3
     grey = core.radiosity(room(0.5, ceiling_luminance=10.0), max_edge=1.0, n_vis=1)
-    assert len(grey.stats) == 1
+    assert grey.stats[0].columns == 1 and fine.stats[0].columns == 471
 
 
 def test_refinement_and_vertex_interpolation():

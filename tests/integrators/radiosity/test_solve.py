@@ -115,11 +115,12 @@ def test_integrating_sphere_item_53():
 
 def test_solvers_agree_items_61_62():
     sc = room(0.7, ceiling_luminance=50.0, rho_ceiling=0.3)
-    sols = {m: core.radiosity(sc, max_edge=0.5, n_vis=1, method=m, tol=1e-9)
+    # tol 1e-7: the float32 form-factor matrix leaves a residual floor of about 1e-8
+    sols = {m: core.radiosity(sc, max_edge=0.5, n_vis=1, method=m, tol=1e-7)
             for m in ("jacobi", "jacobi-power", "gauss-seidel", "southwell")}
     ref = sols["jacobi"].illuminance
-    np.testing.assert_allclose(sols["gauss-seidel"].illuminance, ref, rtol=1e-6)
-    np.testing.assert_allclose(sols["southwell"].illuminance, sols["jacobi-power"].illuminance, rtol=1e-6)
+    np.testing.assert_allclose(sols["gauss-seidel"].illuminance, ref, rtol=1e-5)
+    np.testing.assert_allclose(sols["southwell"].illuminance, sols["jacobi-power"].illuminance, rtol=1e-5)
     # the power system (and shooting) takes F_{j→i} from the matrix's columns, the radiosity system
     # (gathering) F_{i→j} from its rows: they agree to the matrix's reciprocity error
     np.testing.assert_allclose(sols["jacobi-power"].illuminance, ref, rtol=0.015)

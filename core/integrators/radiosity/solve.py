@@ -415,8 +415,9 @@ def radiosity(scene, *, max_edge=None, sides="both", method="gauss-seidel", tol=
     no occlusion, for convex rooms); n_light: samples per point per analytic light;
     rays: rays per stochastic iteration (None: 64 per patch); refine_threshold: split
     patches whose luminance differs from a neighbour's by more than this fraction and solve
-    again, up to refine_steps times, down to min_area m²; progress(stage, done, total):
-    stage "direct", "form factors", "solve"; should_cancel(): checked between stages,
+    again, up to refine_steps times, down to min_area m²; progress(stage, a, b): ("direct",
+    done, total) and ("form factors", done, total) after those stages, ("solve", iteration,
+    residual) after each iteration; should_cancel(): checked between stages,
     blocks of rows and iterations (True: the solution so far is returned, flagged in its
     stats)."""
     from ...film.record import cmf_table

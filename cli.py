@@ -4,7 +4,7 @@
                        [--seed S] [--threads T] [--out FILE.exr] [--exposure EV]
     spectral-gi render-blend SCENE.blend [--out FILE.exr] [--spp N] [--compare-cycles] [--json REPORT.json]
     spectral-gi lux [SCENE] --sensors POINTS.pts [--out lux.csv] [--spp N | --rel-error E]
-                    [--max-depth D] [--seed S] [--threads T]
+                    [--max-depth D] [--seed S] [--threads T] [--method path|radiosity] [--max-edge M]
     spectral-gi save-default-scene OUT.json
 
 Without SCENE it renders the built-in Cornell box. Bad input prints one line
@@ -235,6 +235,11 @@ def _parser():
     lx.add_argument("--threads", type=_int_in(0, MAX_THREADS, "a thread count"), default=0,
                     help="worker threads (0: all cores)")
     lx.add_argument("--scheduler", metavar="ADDRESS", help=SCHEDULER_HELP + " (the points split across workers)")
+    lx.add_argument("--method", choices=("path", "radiosity"), default="path",
+                    help="path: the path tracer (default); radiosity: a radiosity solution of the scene (diffuse "
+                         "materials; others replaced by their albedo), direct light gathered at each point")
+    lx.add_argument("--max-edge", type=float,
+                    help="radiosity: patch size in m (default: 1/16 of the scene's largest extent)")
     s = sub.add_parser("save-default-scene", help="write the built-in Cornell box as a scene file")
     s.add_argument("out", help="output scene file (.json; the .npz is written beside it)")
     s.add_argument("--mkdir", action="store_true", help=MKDIR_HELP)
@@ -536,6 +541,18 @@ def _lux_run(args, scene, bar, done, t0, farm):
                                    threads=args.threads or None, progress=progress, client=farm)
         done["spp"] = int(np.sum(spp))
         return lux, se
+
+    if args.method == "radiosity":
+        import math
+
+        from .core.integrators.radiosity import lux_integrator
+        from .core.scene import SceneError
+
+        if farm is not None:
+            raise SceneError("--scheduler: the radiosity method runs on this machine; leave out --scheduler")
+        if args.max_edge is not None and not (args.max_edge > 0 and math.isfinite(args.max_edge)):
+            raise SceneError(f"--max-edge must be a positive length in m, got {args.max_edge}")
+        estimate = lux_integrator(max_edge=args.max_edge, seed=args.seed or 0, threads=args.threads or None)
 
     if args.sensors is None:
         stem = Path(args.scene).with_suffix("").name if args.scene else args.builtin

@@ -48,6 +48,12 @@ from .photometry.profiles import preset_profiles as photometric_presets
 from .scene import Profile
 # lux on sensor meshes
 from .integrators.sensors import has_sensors, illuminance_image, illuminance_stats, render_illuminance
+# radiosity for diffuse scenes (compendium items 53, 55–62)
+from .integrators.radiosity import (
+    RadiositySolution, differential_form_factor, element_form_factors, form_factor_point_polygon,
+    form_factor_polygon_polygon, radiosity)
+from .integrators.radiosity import illuminance_at as radiosity_illuminance
+from .integrators.radiosity import lux_integrator as radiosity_lux_integrator
 
 __all__ = [
     "Farm", "FarmError",
@@ -75,6 +81,8 @@ __all__ = [
     "render_illuminance", "illuminance_stats", "illuminance_image", "has_sensors",
     "point_illuminance", "point_luminance", "vertical_illuminance", "cylindrical_illuminance",
     "semicylindrical_illuminance",
+    "radiosity", "RadiositySolution", "radiosity_illuminance", "form_factor_point_polygon",
+    "form_factor_polygon_polygon", "element_form_factors", "differential_form_factor", "radiosity_lux_integrator",
 ]
 
 # lux and cd/m² at points (core/integrators/illuminance.py), imported on first use: the module

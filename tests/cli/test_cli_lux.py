@@ -51,6 +51,25 @@ def test_lux_at_points_is_i_cos_over_d2_in_input_order(tmp_path, scene_file):
     assert np.all(got[:, 7] >= 0.0)
 
 
+@pytest.mark.slow
+def test_lux_by_radiosity_gathers_the_lamp_exactly(tmp_path, scene_file):
+    """--method radiosity: points facing the lamp get I cos θ / d² (a delta light, one exact
+    sample; the floor is coplanar with the floor points, so it adds nothing to them)."""
+    pts = tmp_path / "grid.pts"
+    rows = [(1.0, 0.0, 0.0, 0, 0, 1), (0.0, 0.0, 0.0, 0, 0, 1), (0.5, -0.5, 0.0, 0, 0, 1)]
+    pts.write_text("\n".join(" ".join(map(str, r)) for r in rows) + "\n")
+    r = run(["lux", str(scene_file), "--sensors", str(pts), "--method", "radiosity", "--max-edge", "20",
+             "--out", "lux.csv"], tmp_path)
+    assert r.returncode == 0, r.stderr
+    with open(tmp_path / "lux.csv", newline="") as f:
+        got = np.array([[float(v) for v in row] for row in list(csv.reader(f))[1:]])
+    expected = [INTENSITY * HEIGHT / np.linalg.norm(np.array([0.0, 0.0, HEIGHT]) - r_[:3]) ** 3 for r_ in rows]
+    # the points' rays start 1e-6 of the scene's 100 m extent above them: 1e-4 closer to the lamp
+    np.testing.assert_allclose(got[:, 6], expected, rtol=2e-4)
+    r = run(["lux", str(scene_file), "--sensors", str(pts), "--method", "radiosity", "--max-edge", "-1"], tmp_path)
+    assert r.returncode == 2 and "--max-edge" in r.stderr
+
+
 def test_a_bad_points_file_is_one_line_and_status_2(tmp_path, scene_file):
     pts = tmp_path / "bad.pts"
     pts.write_text("0 0 0 0 0 1\n1 2 3\n")

@@ -1,0 +1,217 @@
+"""Solvers of the radiosity system (Dutré's Global Illumination Compendium, items 61–62).
+
+With constant basis functions (one value per patch), Galerkin radiosity gives for every
+patch i and every wavelength band (the system is linear in the radiosity at each
+wavelength, so it is solved per band, see ``solve.py``)
+
+    B_i = E_i + ρ_i Σ_j F_{i→j} B_j                              (item 61)
+
+with E_i the patch's own exitance (emission plus the reflection of the light it receives
+directly from analytic lights), or, multiplied by the areas, the power system
+
+    P_i = P^e_i + ρ_i Σ_j F_{j→i} P_j,   P_i = A_i B_i            (item 62).
+
+Every solver takes F (n, n) (row i: F_{i→j}), ρ (n, K) or (n, 1) and E (n, K), one column
+per right-hand side, and returns (B (n, K), SolveStats). They stop when the relative
+residual, Σ_i A_i |E_i + ρ_i (F B)_i − B_i| / Σ_i A_i |B_i| over all columns (the power
+still out of balance over the power leaving the patches), is at most ``tol``, after
+``max_iter`` iterations, or when ``should_cancel()`` returns True; ``progress(iteration,
+residual)`` is called after each iteration (a sweep; for the shooting solvers a block of
+shots).
+
+* ``jacobi``: B ← E + ρ F B, the Neumann series; every sweep is one matrix product.
+* ``gauss_seidel``: the same update row by row, using the rows already updated; about
+  half as many sweeps.
+* ``southwell``: progressive refinement (Cohen, Chen, Wallace and Greenberg 1988): the
+  patch with the most unshot power shoots it to every patch (row i of F, the share of
+  its power that reaches each patch, so the power system's answer), so the first steps
+  already light the scene; ``ambient`` gives the ambient term of the display, the unshot power spread
+  uniformly with the mean reflectance's interreflection factor 1/(1 − ρ̄).
+* the matrix-free stochastic solver lives in ``solve.py`` (it needs the scene's rays).
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...scene import SceneError
+
+METHODS = ("jacobi", "gauss-seidel", "southwell", "stochastic")
+
+
+@dataclass
+class SolveStats:
+    """method, iterations (sweeps, or shots for Southwell), final residual, seconds, and
+    whether it converged (residual ≤ tol) or was cancelled."""
+
+    method: str
+    iterations: int
+    residual: float
+    seconds: float
+    converged: bool
+    cancelled: bool = False
+    ambient: np.ndarray | None = None  # Southwell: the display's ambient term per column (``ambient``)
+    columns: int = 0  # right-hand sides solved (core.radiosity: after the reduction of the bands)
+
+
+def _check(F, rho, E, area):
+    F = np.asarray(F)
+    n = F.shape[0]
+    if F.ndim != 2 or F.shape[1] != n:
+        raise SceneError(f"radiosity: the form-factor matrix must be square, got {F.shape}")
+    E = np.asarray(E, np.float64).reshape(n, -1)
+    rho = np.asarray(rho, np.float64).reshape(n, -1)
+    if rho.shape[1] not in (1, E.shape[1]):
+        raise SceneError(f"radiosity: ρ has {rho.shape[1]} columns for {E.shape[1]} right-hand sides")
+    area = np.ones(n) if area is None else np.asarray(area, np.float64).reshape(n)
+    return F, rho, E, area
+
+
+def _matvec(F, B):
+    if F.dtype == np.float32:
+        return (F @ B.astype(np.float32)).astype(np.float64)
+    return F @ B
+
+
+def residual(F, rho, E, B, area=None):
+    """The relative residual of B (see the module text)."""
+    F, rho, E, area = _check(F, rho, E, area)
+    r = E + rho * _matvec(F, B) - B
+    den = float(np.sum(area[:, None] * np.abs(B)))
+    return float(np.sum(area[:, None] * np.abs(r))) / den if den > 0 else 0.0
+
+
+def _loop(name, step, F, rho, E, area, tol, max_iter, progress, should_cancel):
+    t0 = time.perf_counter()
+    B = E.copy()
+    res = residual(F, rho, E, B, area)
+    it = 0
+    cancelled = False
+    while res > tol and it < max_iter:
+        if should_cancel is not None and should_cancel():
+            cancelled = True
+            break
+        B = step(B)
+        it += 1
+        res = residual(F, rho, E, B, area)
+        if progress is not None:
+            progress(it, res)
+    return B, SolveStats(name, it, res, time.perf_counter() - t0, res <= tol, cancelled)
+
+
+def jacobi(F, rho, E, area=None, *, tol=1e-6, max_iter=10000, progress=None, should_cancel=None):
+    """Jacobi iteration on the radiosity system (item 61)."""
+    F, rho, E, area = _check(F, rho, E, area)
+    return _loop("jacobi", lambda B: E + rho * _matvec(F, B), F, rho, E, area, tol, max_iter, progress,
+                 should_cancel)
+
+
+def gauss_seidel(F, rho, E, area=None, *, tol=1e-6, max_iter=10000, progress=None, should_cancel=None):
+    """Gauss–Seidel iteration on the radiosity system (item 61), one sweep over the rows per
+    iteration."""
+    F, rho, E, area = _check(F, rho, E, area)
+    n = F.shape[0]
+    wide = rho.shape[1] == 1
+
+    def sweep(B):
+        B = B.copy()
+        for i in range(n):
+            B[i] = E[i] + (rho[i, 0] if wide else rho[i]) * (F[i].astype(np.float64) @ B)
+        return B
+
+    return _loop("gauss-seidel", sweep, F, rho, E, area, tol, max_iter, progress, should_cancel)
+
+
+def jacobi_power(F, rho, E, area, *, tol=1e-6, max_iter=10000, progress=None, should_cancel=None):
+    """Jacobi iteration on the power system (item 62): P ← P^e + ρ Fᵀ P with P = A B;
+    returns the radiosities B = P / A (the same fixed point as ``jacobi``)."""
+    F, rho, E, area = _check(F, rho, E, area)
+    Pe = area[:, None] * E
+    FT = np.ascontiguousarray(F.T)
+    t0 = time.perf_counter()
+    P = Pe.copy()
+    it = 0
+    res = residual(F, rho, E, P / area[:, None], area)
+    cancelled = False
+    while res > tol and it < max_iter:
+        if should_cancel is not None and should_cancel():
+            cancelled = True
+            break
+        P = Pe + rho * _matvec(FT, P)
+        it += 1
+        res = residual(F, rho, E, P / area[:, None], area)
+        if progress is not None:
+            progress(it, res)
+    return P / area[:, None], SolveStats("jacobi-power", it, res, time.perf_counter() - t0, res <= tol, cancelled)
+
+
+def southwell(F, rho, E, area, *, tol=1e-6, max_iter=None, weights=None, progress=None, should_cancel=None,
+              check_every=None):
+    """Progressive refinement (Southwell shooting) on the power system (item 62).
+
+    Each shot takes the patch i with the most unshot power ΔB_i A_i (its columns weighted by
+    ``weights``, e.g. the luminous weight of each band; None: summed) and adds ρ_j F_{i→j}
+    ΔB_i A_i / A_j to every patch's radiosity and unshot radiosity. ``max_iter``: the most
+    shots (None: 50 n). Returns (B, stats); stats.iterations counts the shots. The residual
+    is checked every ``check_every`` shots (None: n)."""
+    F, rho, E, area = _check(F, rho, E, area)
+    n = F.shape[0]
+    w = np.ones(E.shape[1]) if weights is None else np.asarray(weights, np.float64).reshape(-1)
+    max_iter = 50 * n if max_iter is None else int(max_iter)
+    check_every = max(1, n if check_every is None else int(check_every))
+    t0 = time.perf_counter()
+    B = E.copy()
+    dB = E.copy()
+    unshot = area * (np.abs(dB) @ w)
+    shots = 0
+    res = residual(F, rho, E, B, area)
+    cancelled = False
+    while res > tol and shots < max_iter:
+        if should_cancel is not None and should_cancel():
+            cancelled = True
+            break
+        i = int(np.argmax(unshot))
+        if not unshot[i] > 0:
+            break
+        shoot = dB[i].copy()
+        dB[i] = 0.0
+        gain = rho * ((F[i].astype(np.float64) * (area[i] / area))[:, None] * shoot[None, :])
+        B += gain
+        dB += gain
+        unshot = area * (np.abs(dB) @ w)
+        shots += 1
+        if shots % check_every == 0:
+            res = residual(F, rho, E, B, area)
+            if progress is not None:
+                progress(shots, res)
+    res = residual(F, rho, E, B, area)
+    return B, SolveStats("southwell", shots, res, time.perf_counter() - t0, res <= tol, cancelled,
+                         ambient(rho, dB, area))
+
+
+def ambient(rho, dB, area):
+    """The ambient term of progressive refinement for display (Cohen et al. 1988): the
+    unshot radiosity ``dB`` spread over the scene by area, times the interreflection factor
+    1/(1 − ρ̄) of the area-weighted mean reflectance ρ̄; a patch shows B + ρ · ambient."""
+    rho = np.asarray(rho, np.float64)
+    a = np.asarray(area, np.float64)
+    rbar = np.sum(a[:, None] * rho.reshape(a.size, -1), axis=0) / a.sum()
+    mean_unshot = np.sum(a[:, None] * np.asarray(dB).reshape(a.size, -1), axis=0) / a.sum()
+    return mean_unshot / np.maximum(1.0 - rbar, 1e-12)
+
+
+def solve_dense(method, F, rho, E, area, **kw):
+    """Dispatch to one of the dense solvers by name ("jacobi", "jacobi-power",
+    "gauss-seidel", "southwell")."""
+    if method == "jacobi":
+        return jacobi(F, rho, E, area, **kw)
+    if method == "jacobi-power":
+        return jacobi_power(F, rho, E, area, **kw)
+    if method == "gauss-seidel":
+        return gauss_seidel(F, rho, E, area, **kw)
+    if method == "southwell":
+        return southwell(F, rho, E, area, **kw)
+    raise SceneError(f"radiosity solver: unknown method {method!r}; use one of jacobi, jacobi-power, "
+                     "gauss-seidel, southwell, stochastic")

@@ -5,8 +5,8 @@ Each module in ``MODULES`` has a ``classes`` tuple and may have ``register_extra
 twice, or unregistering what is not registered, does nothing, so
 register → unregister → register is safe. ``core`` (and so numba) is never imported
 here: operators import it lazily. Compiled kernels go to the user's cache folder that
-the command line uses too (``core/jit.py``), shared by every install of the extension
-with the same sources, so reinstalling the same version does not compile again.
+the command line uses too (``core/jit.py``), under a key of the sources and the
+extension's import name, so reinstalling the same version does not compile again.
 """
 
 import bpy

@@ -34,12 +34,16 @@ def _source_key():
 
     numba's cache notices edits to the file holding an entry kernel but not to callees
     in other files, so the cache folder is keyed by all of them. The same sources on the
-    same CPU share one folder, whichever copy of the package (the command line, any
-    install of the Blender extension) compiled them.
+    same CPU under the same import name share one folder, wherever that copy of the package
+    lies: every checkout or pip install (``spectral_gi``) shares one, every install and
+    reinstall of the Blender extension (``bl_ext.<repo>.spectral_gi``) another.
     """
     core = Path(__file__).resolve().parent
     h = hashlib.sha256(numba.__version__.encode())
     h.update(_host_cpu().encode())
+    # the package's import name: numba's cached code refers to its modules by name, so a copy
+    # imported under another name (the extension, bl_ext.<repo>.spectral_gi) cannot load them
+    h.update(__name__.encode())
     sources = list(core.rglob("*.py"))
     for p in sorted(sources):
         h.update(p.relative_to(core).as_posix().encode())
@@ -70,10 +74,11 @@ _CORE = Path(__file__).resolve().parent
 
 class _CoreCacheLocator(numba.core.caching.UserProvidedCacheLocator):
     """Where numba caches a kernel of this package's ``core``: ``CACHE_DIR`` (keyed by the
-    sources, numba and the CPU), then the module's folder relative to ``core``. numba's own
+    sources, numba, the CPU and the import name), then the module's folder relative to ``core``. numba's own
     locator names that folder by a hash of its absolute path, so each copy of the package
     (a checkout, an install of the extension, a reinstall) would compile everything
-    again; with this one every copy with the same sources shares the compiled kernels."""
+    again; with this one every copy with the same sources and import name shares the
+    compiled kernels."""
 
     core = _CORE
     cache_dir = str(CACHE_DIR)

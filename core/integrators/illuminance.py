@@ -243,7 +243,7 @@ def _trace_on(geo, mat, emt, med, txr, st, smp, cfg, scr, ray, state):
         prev_pdf = pdf
         ok, ox, oy, oz, dx, dy, dz, medium, outer = _next_ray(geo, med, cfg, scr, hit, shade, (wix, wiy, wiz), prim,
                                                               (medium, outer))
-        if not ok:
+        if not ok or not math.isfinite(dx + dy + dz):  # a NaN direction ends the path
             break
         t_lo = 0.0
         depth += 1

@@ -668,10 +668,11 @@ def _segment(geo, mat, emt, st, smp, cfg, scr, o, d, t_lo, medium, depth, dim, p
 @inline
 def _roulette(st, smp, beta, q, depth, dim):
     """Russian roulette after a scattering event (``depth`` counts it): the path ends when its
-    largest throughput ``q`` is 0, and from rr_depth on it survives with probability q < 1,
+    largest throughput ``q`` is 0 or not finite (NaN or Inf, which validated input cannot
+    produce; such a path would never be ended by the roulette), and from rr_depth on it survives with probability q < 1,
     β divided by q (one dimension drawn). Returns (alive, dim)."""
     key, pseed, s = smp
-    if q <= 0.0:
+    if not 0.0 < q < math.inf:  # nothing left, or a non-finite throughput: never carried further
         return False, dim
     if depth >= st.rr_depth:
         if q < 1.0:
@@ -1209,7 +1210,7 @@ def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr):
                     prev_pdf = pdf
                     ok, ox, oy, oz, dx, dy, dz, medium, outer = _next_ray(geo, med, cfg, scr, hit, shade,
                                                                           (wix, wiy, wiz), prim, (medium, outer))
-                    if not ok:
+                    if not ok or not math.isfinite(dx + dy + dz):  # a NaN direction ends the path
                         break
                     t_lo = 0.0
                     depth += 1

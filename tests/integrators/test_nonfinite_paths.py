@@ -23,8 +23,12 @@ PROBE = textwrap.dedent("""
         prep.materials.spec[:] = np.float32(np.inf)  # every reflectance infinite: β becomes Inf at a bounce
         return prep
 
-    render.prepare = poked
     scene = H.furnace_scene(rho=0.5)
+    core.point_illuminance(scene, np.zeros((1, 3)), np.array([[0.0, 0.0, 1.0]]), spp=1, threads=1)  # compile
+    core.render(H.furnace_scene(rho=0.5, spp=1), threads=1)
+    import faulthandler
+    faulthandler.dump_traceback_later(300, exit=True)  # a path that never ends: the process stops, exit 1
+    render.prepare = poked
     lux, se, n = core.point_illuminance(scene, np.zeros((3, 3)), np.tile([0.0, 0.0, 1.0], (3, 1)), spp=64,
                                         max_depth=None, threads=1)
     assert (n == 64).all()
@@ -39,5 +43,5 @@ def test_a_path_of_infinite_throughput_ends(tmp_path):
     from pathlib import Path
 
     tests = Path(__file__).resolve().parents[1]
-    out = subprocess.run([sys.executable, "-c", PROBE, str(tests)], capture_output=True, text=True, timeout=900)
+    out = subprocess.run([sys.executable, "-c", PROBE, str(tests)], capture_output=True, text=True, timeout=2400)
     assert out.returncode == 0 and out.stdout.strip().endswith("ended"), out.stderr[-3000:]

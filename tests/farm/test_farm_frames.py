@@ -109,7 +109,7 @@ def test_frame_range_on_a_local_cluster_and_a_rerun(tmp_path):
     pytest.importorskip("distributed")
     blend = _make_blend(tmp_path / "anim.blend")
     out = tmp_path / "frames" / "f_####.exr"
-    proc = _cli(blend, "--frames", "1-3", "--out", out, "--scheduler", "local:2")
+    proc = _cli(blend, "--frames", "1-3", "--out", out, "--scheduler", "local:2", "--mkdir")
     assert proc.returncode == 0, proc.stderr[-3000:]
     paths = [tmp_path / "frames" / f"f_000{f}.exr" for f in (1, 2, 3)]
     assert all(p.is_file() and p.with_suffix(".png").is_file() for p in paths)
@@ -120,7 +120,7 @@ def test_frame_range_on_a_local_cluster_and_a_rerun(tmp_path):
     # a rerun renders only the frame that is missing
     paths[1].unlink()
     stamps = [paths[0].stat().st_mtime_ns, paths[2].stat().st_mtime_ns]
-    proc = _cli(blend, "--frames", "1-3", "--out", out, "--scheduler", "local:2")
+    proc = _cli(blend, "--frames", "1-3", "--out", out, "--scheduler", "local:2", "--mkdir")
     assert proc.returncode == 0, proc.stderr[-3000:]
     assert "2 of 3 frames already written, skipped" in proc.stderr
     assert paths[1].is_file() and [paths[0].stat().st_mtime_ns, paths[2].stat().st_mtime_ns] == stamps

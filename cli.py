@@ -61,34 +61,28 @@ MAX_THREADS = 4096
 MAX_EXPOSURE = 64.0  # stops
 
 
-def _int_in(lo, hi, what):
+def _bounded(parser, lo, hi, expected, what, show):
+    """An argparse type: text read by ``core.io.strict.<parser>``, then checked to lie in [lo, hi]."""
     def parse(text):
-        from .core.io.strict import parse_int
+        from .core.io import strict
 
         try:
-            v = parse_int(text)
+            v = getattr(strict, parser)(text)
         except ValueError:
-            raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+            raise argparse.ArgumentTypeError(f"expected {expected}, got {text!r}") from None
         if not lo <= v <= hi:
-            raise argparse.ArgumentTypeError(f"expected {what} in [{lo}, {hi}], got {v}")
+            raise argparse.ArgumentTypeError(f"expected {what} in [{show(lo)}, {show(hi)}], got {show(v)}")
         return v
 
     return parse
+
+
+def _int_in(lo, hi, what):
+    return _bounded("parse_int", lo, hi, "a whole number", what, str)
 
 
 def _float_in(lo, hi):
-    def parse(text):
-        from .core.io.strict import parse_float
-
-        try:
-            v = parse_float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}") from None
-        if not lo <= v <= hi:
-            raise argparse.ArgumentTypeError(f"expected a number in [{lo:g}, {hi:g}], got {v:g}")
-        return v
-
-    return parse
+    return _bounded("parse_float", lo, hi, "a finite number", "a number", "{:g}".format)
 
 
 _positive_int = _int_in(1, MAX_OPTION_INT, "a positive number")

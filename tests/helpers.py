@@ -1,6 +1,9 @@
 """Small scene builders shared by the core tests."""
 import math
 import struct
+import subprocess
+import sys
+import textwrap
 import zlib
 
 import numpy as np
@@ -162,3 +165,48 @@ def blender_spot_mask(t, spot_size, blend):
     if blend == 0:
         return (t > ch).astype(float)
     return np.where(t > ch, smoothstep((t - ch) / ((1 - ch) * blend)), 0.0)
+
+
+# A .blend of a grey diffuse floor, an area light above it and a camera looking down, built in a
+# background Blender (the bpy module) with the add-on registered. ``light_setup`` and ``extra`` are
+# Python run in that Blender before the file is saved: ``material`` (its node ``tree`` ``t``, the Diffuse
+# node ``d``), ``light`` and ``scene`` are in scope; ``sys.argv[1]`` is the file, later arguments are free.
+_FLOOR_BLEND = """
+import math, sys
+import bpy
+from spectral_gi.addon import registration
+registration.register()
+bpy.ops.wm.read_homefile(use_empty=True)
+scene = bpy.context.scene
+def link(o):
+    scene.collection.objects.link(o)
+    return o
+material = m = bpy.data.materials.new("Grey")
+t = m.node_tree
+t.nodes.clear()
+out, d = t.nodes.new("ShaderNodeOutputMaterial"), t.nodes.new("ShaderNodeBsdfDiffuse")
+d.inputs["Color"].default_value = (0.5, 0.5, 0.5, 1.0)
+t.links.new(d.outputs[0], out.inputs["Surface"])
+me = bpy.data.meshes.new("Floor")
+me.from_pydata([(-3, -3, 0), (3, -3, 0), (3, 3, 0), (-3, 3, 0)], [], [(0, 1, 2, 3)])
+me.materials.append(m)
+link(bpy.data.objects.new("Floor", me))
+light = bpy.data.lights.new("Key", "AREA")
+light.energy, light.size = 200.0, 1.0
+link(bpy.data.objects.new("Key", light)).location = (0, 0, 3)
+cam = link(bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam")))
+cam.location, cam.rotation_euler = (0, -6, 3), (math.radians(60), 0, 0)
+scene.camera = cam
+scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = {width}, {height}, 100
+scene.spectral_gi.samples = 2
+"""
+
+
+def make_floor_blend(path, extra="", *args, width=12, height=8, timeout=600):
+    """Write the floor scene above to ``path`` (a background Blender run); ``extra`` is run before saving."""
+    script = (_FLOOR_BLEND.format(width=int(width), height=int(height)) + textwrap.dedent(extra)
+              + "\nbpy.ops.wm.save_as_mainfile(filepath=sys.argv[1])\n")
+    made = subprocess.run([sys.executable, "-c", script, str(path), *map(str, args)], capture_output=True,
+                          text=True, timeout=timeout)
+    assert made.returncode == 0 and path.is_file(), made.stderr[-2000:]
+    return path

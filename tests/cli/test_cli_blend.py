@@ -3,11 +3,11 @@ import json
 from pathlib import Path
 import subprocess
 import sys
-import textwrap
 
 import numpy as np
 import pytest
 
+from helpers import make_floor_blend
 from spectral_gi.cli import main
 
 
@@ -35,47 +35,17 @@ def test_bpy_missing(tmp_path):
     assert proc.stderr.count("\n") == 1 and "bpy module" in proc.stderr, proc.stderr
 
 
-MAKE_BLEND = textwrap.dedent("""
-    import math, sys
-    import bpy
-    from spectral_gi.addon import registration
-    registration.register()
-    bpy.ops.wm.read_homefile(use_empty=True)
-    scene = bpy.context.scene
-    def link(o):
-        scene.collection.objects.link(o)
-        return o
-    m = bpy.data.materials.new("Grey")
-    t = m.node_tree
-    t.nodes.clear()
-    out, d = t.nodes.new("ShaderNodeOutputMaterial"), t.nodes.new("ShaderNodeBsdfDiffuse")
-    d.inputs["Color"].default_value = (0.5, 0.5, 0.5, 1.0)
-    t.links.new(d.outputs[0], out.inputs["Surface"])
-    me = bpy.data.meshes.new("Floor")
-    me.from_pydata([(-3, -3, 0), (3, -3, 0), (3, 3, 0), (-3, 3, 0)], [], [(0, 1, 2, 3)])
-    me.materials.append(m)
-    link(bpy.data.objects.new("Floor", me))
-    light = bpy.data.lights.new("Key", "AREA")
-    light.energy, light.size = 200.0, 1.0
-    if "--bad-light" in sys.argv:  # lux is a sun's unit: the exporter refuses it for an area light
-        light.spectral_gi.unit = "LUX"
-    link(bpy.data.objects.new("Key", light)).location = (0, 0, 3)
-    cam = link(bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam")))
-    cam.location, cam.rotation_euler = (0, -6, 3), (math.radians(60), 0, 0)
-    scene.camera = cam
-    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 12, 8, 100
-    scene.render.engine = "CYCLES"  # render-blend renders with Spectral GI whatever the file says
-    scene.spectral_gi.samples = 2
-    scene.view_layers[0].spectral_gi.use_pass_xyz = True  # besides Luminance, on by default
-    scene.view_layers[0].spectral_gi.use_pass_depth = True
-    bpy.ops.wm.save_as_mainfile(filepath=sys.argv[1])
-""")
+BLEND_EXTRA = """
+if "--bad-light" in sys.argv:  # lux is a sun's unit: the exporter refuses it for an area light
+    light.spectral_gi.unit = "LUX"
+scene.render.engine = "CYCLES"  # render-blend renders with Spectral GI whatever the file says
+scene.view_layers[0].spectral_gi.use_pass_xyz = True  # besides Luminance, on by default
+scene.view_layers[0].spectral_gi.use_pass_depth = True
+"""
 
 
 def _make_blend(path, *flags):
-    made = subprocess.run([sys.executable, "-c", MAKE_BLEND, str(path), *flags], capture_output=True, text=True)
-    assert made.returncode == 0 and path.is_file(), made.stderr[-2000:]
-    return path
+    return make_floor_blend(path, BLEND_EXTRA, *flags)
 
 
 def _cli(*args, timeout=1200):

@@ -4,11 +4,11 @@ file missing on the machine fails naming the file."""
 import json
 import subprocess
 import sys
-import textwrap
 
 import numpy as np
 import pytest
 
+from helpers import make_floor_blend
 from spectral_gi.addon import headless
 
 
@@ -44,53 +44,22 @@ def test_frames_already_written_are_skipped(tmp_path, monkeypatch):
     assert rendered == [2]
 
 
-MAKE_BLEND = textwrap.dedent("""
-    import math, sys
-    import bpy
-    from spectral_gi.addon import registration
-    registration.register()
-    bpy.ops.wm.read_homefile(use_empty=True)
-    scene = bpy.context.scene
-    def link(o):
-        scene.collection.objects.link(o)
-        return o
-    m = bpy.data.materials.new("Grey")
-    t = m.node_tree
-    t.nodes.clear()
-    out, d = t.nodes.new("ShaderNodeOutputMaterial"), t.nodes.new("ShaderNodeBsdfDiffuse")
-    d.inputs["Color"].default_value = (0.5, 0.5, 0.5, 1.0)
-    t.links.new(d.outputs[0], out.inputs["Surface"])
-    if "--missing-texture" in sys.argv:
-        img = bpy.data.images.new("Wood", 4, 4)
-        img.source = "FILE"
-        img.filepath = sys.argv[2]
-        tex = t.nodes.new("ShaderNodeTexImage")
-        tex.image = img
-        t.links.new(tex.outputs["Color"], d.inputs["Color"])
-    me = bpy.data.meshes.new("Floor")
-    me.from_pydata([(-3, -3, 0), (3, -3, 0), (3, 3, 0), (-3, 3, 0)], [], [(0, 1, 2, 3)])
-    me.materials.append(m)
-    link(bpy.data.objects.new("Floor", me))
-    light = bpy.data.lights.new("Key", "AREA")
-    light.size = 1.0
-    for frame, watts in ((1, 100.0), (2, 200.0), (3, 400.0)):  # the light doubles each frame
-        light.energy = watts
-        light.keyframe_insert("energy", frame=frame)
-    link(bpy.data.objects.new("Key", light)).location = (0, 0, 3)
-    cam = link(bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam")))
-    cam.location, cam.rotation_euler = (0, -6, 3), (math.radians(60), 0, 0)
-    scene.camera = cam
-    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 8, 6, 100
-    scene.spectral_gi.samples = 2
-    bpy.ops.wm.save_as_mainfile(filepath=sys.argv[1])
-""")
+BLEND_EXTRA = """
+if "--missing-texture" in sys.argv:
+    img = bpy.data.images.new("Wood", 4, 4)
+    img.source = "FILE"
+    img.filepath = sys.argv[2]
+    tex = t.nodes.new("ShaderNodeTexImage")
+    tex.image = img
+    t.links.new(tex.outputs["Color"], d.inputs["Color"])
+for frame, watts in ((1, 100.0), (2, 200.0), (3, 400.0)):  # the light doubles each frame
+    light.energy = watts
+    light.keyframe_insert("energy", frame=frame)
+"""
 
 
 def _make_blend(path, *extra):
-    made = subprocess.run([sys.executable, "-c", MAKE_BLEND, str(path), *map(str, extra)], capture_output=True,
-                          text=True, timeout=600)
-    assert made.returncode == 0 and path.is_file(), made.stderr[-2000:]
-    return path
+    return make_floor_blend(path, BLEND_EXTRA, *extra, width=8, height=6)
 
 
 def _cli(*args):

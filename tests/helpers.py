@@ -210,3 +210,24 @@ def make_floor_blend(path, extra="", *args, width=12, height=8, timeout=600):
                           text=True, timeout=timeout)
     assert made.returncode == 0 and path.is_file(), made.stderr[-2000:]
     return path
+
+
+def recording_layout(props, labels=None, operators=None):
+    """A stand-in for a panel's ``UILayout``: records the names of the properties drawn (failing on one its
+    owner lacks), and where lists are given the label texts and operator ids."""
+    from unittest import mock
+
+    lay = mock.MagicMock()
+    for name in ("row", "column", "box", "split", "grid_flow"):
+        getattr(lay, name).return_value = lay
+
+    def prop(owner, name, **kw):
+        assert hasattr(owner, name), (owner, name)
+        props.append(name)
+
+    lay.prop.side_effect = prop
+    if labels is not None:
+        lay.label.side_effect = lambda text="", **kw: labels.append(text)
+    if operators is not None:
+        lay.operator.side_effect = lambda idname, **kw: operators.append(idname) or mock.MagicMock()
+    return lay

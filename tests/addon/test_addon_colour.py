@@ -5,6 +5,8 @@ import math
 import numpy as np
 import pytest
 
+from helpers import recording_layout
+
 pytestmark = pytest.mark.blender
 
 MODULE = "bl_ext.user_default.spectral_gi"
@@ -191,15 +193,7 @@ def test_panels_draw_the_new_settings(ext, bpy):
     drawn = []
 
     def layout():
-        lay = mock.MagicMock()
-        for name in ("row", "column", "box", "split"):
-            getattr(lay, name).return_value = lay
-
-        def prop(owner, name, **kw):
-            assert hasattr(owner, name), (owner, name)
-            drawn.append(name)
-        lay.prop.side_effect = prop
-        return lay
+        return recording_layout(drawn)
 
     b.scene.spectral_gi.colour_space = "XYZ"
     bpy.types.SPECTRALGI_PT_film.draw(mock.MagicMock(layout=layout()), bpy.context)

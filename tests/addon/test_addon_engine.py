@@ -5,6 +5,8 @@ import math
 import numpy as np
 import pytest
 
+from helpers import recording_layout
+
 pytestmark = pytest.mark.blender
 
 MODULE = "bl_ext.user_default.spectral_gi"
@@ -219,15 +221,7 @@ def test_panels_draw_for_every_light_type(ext, bpy):
     drawn = []
 
     def layout():
-        lay = mock.MagicMock()
-        for name in ("row", "column", "box", "split"):
-            getattr(lay, name).return_value = lay
-
-        def prop(owner, name, **kw):
-            assert hasattr(owner, name), (owner, name)
-            drawn.append(name)
-        lay.prop.side_effect = prop
-        return lay
+        return recording_layout(drawn)
 
     for name in ("SPECTRALGI_PT_sampling", "SPECTRALGI_PT_film", "SPECTRALGI_PT_passes"):
         panel = getattr(bpy.types, name)

@@ -6,6 +6,8 @@ import math
 import numpy as np
 import pytest
 
+from helpers import recording_layout
+
 pytestmark = pytest.mark.blender
 
 H = 2.0  # m, the light above the plane
@@ -318,17 +320,7 @@ def test_panels_show_the_result_and_the_progress(ext, bpy):
     labels, props, ops_used = [], [], []
 
     def layout():
-        lay = mock.MagicMock()
-        for name in ("row", "column", "box", "split", "grid_flow"):
-            getattr(lay, name).return_value = lay
-
-        def prop(owner, name, **kw):
-            assert hasattr(owner, name), (owner, name)
-            props.append(name)
-        lay.prop.side_effect = prop
-        lay.label.side_effect = lambda text="", **kw: labels.append(text)
-        lay.operator.side_effect = lambda idname, **kw: ops_used.append(idname) or mock.MagicMock()
-        return lay
+        return recording_layout(props, labels, ops_used)
 
     ctx = mock.MagicMock(object=plane, scene=bpy.context.scene)
     bpy.types.SPECTRALGI_PT_lux.draw(mock.MagicMock(layout=layout()), ctx)

@@ -191,6 +191,7 @@ def export_scene(depsgraph, scene=None, should_cancel=None, mesh_cache=None, cam
     ctx.check_cancel()
     world = scene.world.evaluated_get(depsgraph) if scene.world is not None else None
     core_world = export_world(ctx, world)
+    lights.extend(getattr(ctx, "world_lights", []))  # a Sky Texture's sun disc
     export_world_volume(ctx, world)
     if not ctx.materials:
         ctx.default_material()

@@ -1,8 +1,10 @@
 """The Blender world → a constant background or an equirectangular environment image.
 
-Supported: a Background (or Emission) node whose Color is a constant, or an
-Environment Texture node (equirectangular projection), optionally fed by a Mapping
-node's rotation about Z; the Background's Strength scales either.
+Supported: a Background (or Emission) node whose Color is a constant, an Environment
+Texture node (equirectangular projection), optionally fed by a Mapping node's rotation
+about Z, or a Sky Texture node of the single- or multiple-scattering type (its sky an
+environment image and its sun disc a sun light, computed spectrally by the core); the
+Background's Strength scales each.
 """
 import numpy as np
 
@@ -80,6 +82,41 @@ def _environment(ctx, name, tex):
     return np.ascontiguousarray(rgb, dtype=np.float32), float(rotation)
 
 
+SKY_TYPES = {"SINGLE_SCATTERING": "single", "MULTIPLE_SCATTERING": "multiple", "NISHITA": "single"}
+
+
+def _sky(ctx, name, tex, strength):
+    """(World, sun Light or None) of a Sky Texture node, or None for a sky type the core lacks."""
+    from ...core import Light, World, blender_sky, constants, emission_from_samples
+
+    kind = SKY_TYPES.get(tex.sky_type)
+    if kind is None:
+        ctx.skip("Sky Texture types other than Single and Multiple Scattering (constant colour used)",
+                 f"{name}/{tex.name} ({tex.sky_type})")
+        return None
+    vec = tex.inputs.get("Vector")
+    if vec is not None and vec.is_linked:
+        ctx.note(f"{name}: Sky Texture vector from {vec.links[0].from_node.name!r} ignored (default direction used)")
+    if kind == "multiple":
+        ctx.note(f"{name}: Multiple Scattering sky approximated (single scattering of its atmosphere "
+                 "plus an analytic multiple-scattering term)")
+    params = dict(sky_type=kind, sun_elevation=float(tex.sun_elevation), sun_rotation=float(tex.sun_rotation),
+                  sun_size=float(tex.sun_size), sun_intensity=float(tex.sun_intensity), sun_disc=bool(tex.sun_disc),
+                  altitude=float(tex.altitude), air_density=float(tex.air_density),
+                  aerosol_density=float(tex.aerosol_density), ozone_density=float(tex.ozone_density))
+    day = blender_sky(**params)
+    world = World(image=day.image, image_scale=float(strength))
+    if day.sun_direction is None or not day.sun_illuminance > 0.0:
+        return world, None
+    key = ("sky sun",) + tuple(sorted(params.items()))
+    index = ctx.emission_spectrum(key, f"{name} sun", lambda: emission_from_samples(
+        day.sun_wavelengths, day.sun_irradiance, ctx.n_coeffs))
+    sun = Light(name=f"{name} sun", kind=constants.LIGHT_SUN, position=(0.0, 0.0, 0.0), axis_u=(0.0, 0.0, 0.0),
+                axis_v=(0.0, 0.0, 0.0), spectrum=index, luminance=0.0, direction=day.sun_direction,
+                illuminance=day.sun_illuminance * float(strength), angle=day.sun_angle, visible=True)
+    return world, sun
+
+
 def export_world(ctx, world):
     """A core World: an environment image × strength, the Background colour × strength, or black."""
     from ...core import World, emission_luminance
@@ -107,6 +144,16 @@ def export_world(ctx, world):
                     return World()
                 image, rotation = env
                 return World(image=image, rotation=rotation, image_scale=float(strength))
+        if color is not None and color.is_linked and color.links[0].from_node.type == "TEX_SKY":
+            strength = input_value(ctx, f"world {name}", node, ("Strength",), "value")
+            if not strength > 0.0:
+                return World()
+            sky = _sky(ctx, f"world {name}", color.links[0].from_node, strength)
+            if sky is not None:
+                core_world, sun = sky
+                if sun is not None:
+                    ctx.world_lights = [sun]
+                return core_world
         rgb = input_value(ctx, f"world {name}", node, ("Color",), "colour")
         strength = input_value(ctx, f"world {name}", node, ("Strength",), "value")
     if not strength > 0.0 or not max(rgb) > 0.0:

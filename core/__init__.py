@@ -47,7 +47,7 @@ from .photometry.profiles import PhotometricError, read_profile
 from .photometry.profiles import preset_profiles as photometric_presets
 from .scene import Profile
 # the daylight of Blender's Sky Texture, computed spectrally
-from .lights.sky import Daylight, blender_sky
+from .lights.sky import Daylight, blender_sky, preetham_sky
 # lux on sensor meshes
 from .integrators.sensors import has_sensors, illuminance_image, illuminance_stats, render_illuminance
 # radiosity for diffuse scenes (compendium items 53, 55–62)
@@ -79,7 +79,7 @@ __all__ = [
     "point_light_intensity", "spot_solid_angle", "sun_illuminance", "scene_white_xy",
     "Texture",
     "SpectrumFileError", "load_spectrum_file", "spectrum_file_coeffs",
-    "Daylight", "blender_sky",
+    "Daylight", "blender_sky", "preetham_sky",
     "Profile", "read_profile", "PhotometricError", "photometric_presets",
     "render_illuminance", "illuminance_stats", "illuminance_image", "has_sensors",
     "point_illuminance", "point_luminance", "vertical_illuminance", "cylindrical_illuminance",

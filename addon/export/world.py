@@ -3,8 +3,8 @@
 Supported: a Background (or Emission) node whose Color is a constant, an Environment
 Texture node (equirectangular projection), optionally fed by a Mapping node's rotation
 about Z, or a Sky Texture node of the single- or multiple-scattering type (its sky an
-environment image and its sun disc a sun light, computed spectrally by the core); the
-Background's Strength scales each.
+environment image and its sun disc a sun light, computed spectrally by the core) or of
+the Preetham type (its closed form); the Background's Strength scales each.
 """
 import numpy as np
 
@@ -90,13 +90,18 @@ def _sky(ctx, name, tex, strength):
     from ...core import Light, World, blender_sky, constants, emission_from_samples
 
     kind = SKY_TYPES.get(tex.sky_type)
-    if kind is None:
-        ctx.skip("Sky Texture types other than Single and Multiple Scattering (constant colour used)",
-                 f"{name}/{tex.name} ({tex.sky_type})")
+    if kind is None and tex.sky_type != "PREETHAM":
+        ctx.skip("Sky Texture types other than Single Scattering, Multiple Scattering and Preetham "
+                 "(constant colour used)", f"{name}/{tex.name} ({tex.sky_type})")
         return None
     vec = tex.inputs.get("Vector")
     if vec is not None and vec.is_linked:
         ctx.note(f"{name}: Sky Texture vector from {vec.links[0].from_node.name!r} ignored (default direction used)")
+    if tex.sky_type == "PREETHAM":
+        from ...core import preetham_sky
+
+        image = preetham_sky(tuple(float(x) for x in tex.sun_direction), float(tex.turbidity))
+        return World(image=image, image_scale=float(strength)), None
     if kind == "multiple":
         ctx.note(f"{name}: Multiple Scattering sky approximated (single scattering of its atmosphere "
                  "plus an analytic multiple-scattering term)")

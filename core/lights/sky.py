@@ -33,9 +33,13 @@ Two atmospheres, as Blender's two physical sky types:
   (Blender 4.5+; https://fgarlin.com/posts/2024-12-06-spectral_sky/) — planet 6371 km,
   100 km thick, his fitted molecular, aerosol (urban, Henyey–Greenstein g = 0.8) and ozone
   (334.5 DU) profiles, coefficients from his four wavelengths (630, 560, 490, 430 nm)
-  interpolated log–log; the single scattering is computed as above, and the higher orders
+  interpolated log–log, the Sun scaled to the luminance his model gives it (CYCLES_MS_SUN_Y);
+  the single scattering is computed as above, and the higher orders
   are **approximated** by his analytic fit: an isotropic source of 0.02·c(λ)/(1 + 5e^(−17.92 μ☉))
   per unit scattering, plus the light reflected once by a grey ground of albedo 0.3.
+
+A third, the Preetham sky (PREETHAM), is a closed-form fit in xyY of Perez's luminance
+distribution (:func:`preetham_sky`), not a spectral model.
 
 The Sun: a 5778 K blackbody of the IAU 2015 nominal solar radius (6.957·10⁸ m) seen from
 1 au, E☉(λ) = π (R☉/au)² B(λ, 5778 K), 1367 W/m² in all — the extraterrestrial spectrum
@@ -77,6 +81,19 @@ _OZONE_SIGMA = np.array([
     0.000604, 0.001088, 0.003675, 0.01359, 0.03733, 0.07506, 0.1181, 0.1798, 0.2877, 0.3885, 0.4575,
     0.5084, 0.3998, 0.2956, 0.2088, 0.1367, 0.08633, 0.06151, 0.04184, 0.02766, 0.03128]) * 1e-24
 DOBSON = 2.6867e20  # molecules per m² in one Dobson unit
+
+
+# García Liñán's model reduces its four radiance samples to XYZ with a fitted matrix; with his
+# solar irradiance samples (1.679, 1.828, 1.986, 1.307 W m⁻² nm⁻¹ at 630, 560, 490, 430 nm) it
+# gives the Sun above the atmosphere Y = 208.68 W m⁻² sr⁰ (142.5 klx), 13 % more than the CIE
+# integral of the 5778 K Sun (184.28, 125.9 klx). Cycles' Multiple Scattering sky and sun are
+# that much brighter; the "multiple" atmosphere scales the Sun to it, so it renders at Cycles'
+# brightness (its colour stays the spectral computation's).
+CYCLES_MS_SUN_Y = 208.68
+
+
+def _sun_y():
+    return float(np.sum(_v_lambda(WAVELENGTHS) * sun_irradiance_top()) * (WAVELENGTHS[1] - WAVELENGTHS[0]))
 
 
 def sun_irradiance_top(wl=WAVELENGTHS):
@@ -122,6 +139,7 @@ class Atmosphere(NamedTuple):
     phase: str
     g: float
     ms: np.ndarray  # (L,) García Liñán's multiple-scattering colour c(λ); zeros for none
+    sun_scale: float = 1.0  # the Sun's spectrum × this (Cycles' normalisation, see CYCLES_MS_SUN_Y)
 
 
 def atmosphere(kind="single", air_density=1.0, aerosol_density=1.0, ozone_density=1.0):
@@ -146,7 +164,7 @@ def atmosphere(kind="single", air_density=1.0, aerosol_density=1.0, ozone_densit
         scat = np.stack([mol, aer_s, 0 * wl])
         ext = np.stack([mol, aer_s + aer_a, oz])
         ms = _loglog(wl, x, np.array([1.0, 0.594, 0.347, 0.217]))
-        return Atmosphere(kind, 6371e3, 6471e3, scat, ext, "hg", 0.8, ms)
+        return Atmosphere(kind, 6371e3, 6471e3, scat, ext, "hg", 0.8, ms, CYCLES_MS_SUN_Y / _sun_y())
     raise ValueError(f"unknown sky type {kind!r} (expected one of {SKY_TYPES})")
 
 
@@ -256,7 +274,7 @@ def sky_radiance(atm, elevations, azimuths, sun_elevation, altitude, steps=64, t
                       _to_sphere(r0, mu0, atm.top_radius))
     mu_s = d @ s  # (E, A): cosine between the view and the Sun
     ray_p, aer_p = _phase(atm, mu_s)
-    sun = sun_irradiance_top(WAVELENGTHS)
+    sun = sun_irradiance_top(WAVELENGTHS) * atm.sun_scale
     edges = (np.arange(steps + 1) / steps) ** 2
     depth_view = np.zeros((3,) + mu0.shape)
     out = np.zeros(mu0.shape + (atm.scattering.shape[1],))
@@ -392,7 +410,7 @@ def blender_sky(sky_type="single", sun_elevation=math.radians(15.0), sun_rotatio
     direction = None
     if sun_disc and sun_size > 0.0 and sun_intensity > 0.0 and sun_elevation > 0.0:
         trans = sun_transmittance(atm, sun_elevation, altitude, ozone=sky_type != "single", table=table)
-        irr = sun_irradiance_top(wl) * trans * sun_intensity * (1.0 - CYCLES_LIMB_DARKENING / 3.0)
+        irr = sun_irradiance_top(wl) * atm.sun_scale * trans * sun_intensity * (1.0 - CYCLES_LIMB_DARKENING / 3.0)
         ce = math.cos(sun_elevation)
         direction = (-ce * math.cos(sun_phi), -ce * math.sin(sun_phi), -math.sin(sun_elevation))
     irr.setflags(write=False)
@@ -405,3 +423,60 @@ def _v_lambda(wl):
 
     cwl, bar = cmfs("1931")
     return np.interp(wl, cwl, bar[:, 1])
+
+
+# ----------------------------------------------------------------------------- Preetham
+
+# Perez et al.'s sky luminance distribution, F(θ, γ) = (1 + A e^(B/cos θ))(1 + C e^(Dγ) + E cos²γ),
+# with the coefficients of Y, x and y linear in turbidity T (Preetham, Shirley and Smits, "A
+# practical analytic model for daylight", SIGGRAPH 1999, appendix A.2): rows (slope, offset).
+_PEREZ = {
+    "Y": ((0.1787, -1.4630), (-0.3554, 0.4275), (-0.0227, 5.3251), (0.1206, -2.5771), (-0.0670, 0.3703)),
+    "x": ((-0.0193, -0.2592), (-0.0665, 0.0008), (-0.0004, 0.2125), (-0.0641, -0.8989), (-0.0033, 0.0452)),
+    "y": ((-0.0167, -0.2608), (-0.0950, 0.0092), (-0.0079, 0.2102), (-0.0441, -1.6537), (-0.0109, 0.0529)),
+}
+# zenith chromaticity: [T², T, 1] · M · [θs³, θs², θs, 1] (ibid.)
+_ZENITH_X = np.array([[0.00166, -0.00375, 0.00209, 0.0], [-0.02903, 0.06377, -0.03202, 0.00394],
+                      [0.11693, -0.21196, 0.06052, 0.25886]])
+_ZENITH_Y = np.array([[0.00275, -0.00610, 0.00317, 0.0], [-0.04214, 0.08970, -0.04153, 0.00516],
+                      [0.15346, -0.26756, 0.06670, 0.26688]])
+# Cycles' scale of the zenith luminance (kcd/m² in the paper) to its scene-linear Y
+CYCLES_PREETHAM_SCALE = 0.06
+
+
+def _perez(coeffs, theta, gamma):
+    A, B, Cc, D, E = coeffs
+    return (1.0 + A * np.exp(B / np.cos(theta))) * (1.0 + Cc * np.exp(D * gamma) + E * np.cos(gamma) ** 2)
+
+
+def preetham_sky(sun_direction=(0.0, 0.0, 1.0), turbidity=2.2, width=512, height=256):
+    """The Preetham sky (closed form: Perez distributions of Y, x, y scaled to the zenith's value)
+    as an equirectangular linear Rec.709 image in Blender's scene-linear units, as Cycles'
+    PREETHAM Sky Texture: the zenith luminance Y_z (kcd/m²) × 0.06, directions below the horizon
+    take the horizon's colour, no sun disc. ``sun_direction``: towards the Sun (normalised here)."""
+    if not 1.0 <= float(turbidity) <= 10.0:
+        raise ValueError(f"Preetham turbidity {turbidity!r} outside the model's range [1, 10]")
+    s = np.asarray(sun_direction, np.float64)
+    if not np.linalg.norm(s) > 0.0:
+        raise ValueError("the Preetham sun direction is a zero vector")
+    s = s / np.linalg.norm(s)
+    T = float(turbidity)
+    ts = math.acos(min(max(s[2], -1.0), 1.0))
+    coeffs = {k: tuple(a * T + b for a, b in rows) for k, rows in _PEREZ.items()}
+    chi = (4.0 / 9.0 - T / 120.0) * (math.pi - 2.0 * ts)
+    zen_Y = ((4.0453 * T - 4.9710) * math.tan(chi) - 0.2155 * T + 2.4192) * CYCLES_PREETHAM_SCALE
+    tv = np.array([ts ** 3, ts ** 2, ts, 1.0])
+    zen = {"Y": zen_Y, "x": np.array([T * T, T, 1.0]) @ _ZENITH_X @ tv, "y": np.array([T * T, T, 1.0]) @ _ZENITH_Y @ tv}
+    theta = math.pi * (np.arange(height) + 0.5) / height
+    phi = math.pi - 2.0 * math.pi * (np.arange(width) + 0.5) / width
+    d = np.stack(np.broadcast_arrays(np.sin(theta)[:, None] * np.cos(phi)[None], np.sin(theta)[:, None]
+                                     * np.sin(phi)[None], np.cos(theta)[:, None]), -1)
+    gamma = np.arccos(np.clip(d @ s, -1.0, 1.0))
+    th = np.minimum(theta, math.pi / 2 - 0.001)[:, None]
+    v = {k: zen[k] * _perez(coeffs[k], th, gamma) / _perez(coeffs[k], 0.0, ts) for k in ("Y", "x", "y")}
+    Y, x, y = v["Y"], v["x"], v["y"]
+    xyz = np.stack([x / y * Y, Y, (1.0 - x - y) / y * Y], -1)
+    from ..colour.rgb import XYZ_to_sRGB_linear
+
+    image = np.ascontiguousarray(np.maximum(XYZ_to_sRGB_linear(xyz), 0.0), np.float32)
+    return image

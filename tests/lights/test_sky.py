@@ -114,6 +114,25 @@ def test_sun_intensity_scales_the_sun_only():
     np.testing.assert_array_equal(a.image, b.image)
 
 
+def test_preetham_zenith_is_its_closed_form():
+    """At the zenith the Perez functions divide out: Y is the zenith luminance of Preetham et al.
+    (1999), Y_z = (4.0453 T − 4.9710) tan χ − 0.2155 T + 2.4192 kcd/m², χ = (4/9 − T/120)(π − 2θs),
+    × Cycles' 0.06; the sky is brightest towards the Sun and finite, positive everywhere."""
+    T, ts = 3.0, math.radians(40.0)
+    s = (math.sin(ts), 0.0, math.cos(ts))
+    img = sky.preetham_sky(s, T, width=64, height=64)
+    assert np.all(np.isfinite(img)) and np.all(img >= 0.0)
+    chi = (4 / 9 - T / 120) * (math.pi - 2 * ts)
+    yz = ((4.0453 * T - 4.9710) * math.tan(chi) - 0.2155 * T + 2.4192) * 0.06
+    zenith = sky.preetham_sky(s, T, width=4, height=1000)[0].mean(0) @ np.array([0.2126, 0.7152, 0.0722])
+    assert zenith == pytest.approx(yz, rel=2e-3)
+    y = img[:32] @ np.array([0.2126, 0.7152, 0.0722])
+    row, col = np.unravel_index(np.argmax(y), y.shape)
+    assert abs(col + 0.5 - 32) <= 1.0  # the Sun is along +X: the image's centre column
+    with pytest.raises(ValueError, match="turbidity"):
+        sky.preetham_sky(s, 0.5)
+
+
 def test_bad_sky_type_is_a_clear_error():
     with pytest.raises(ValueError, match="sky type"):
         blender_sky("preetham")

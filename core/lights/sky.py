@@ -384,16 +384,22 @@ def blender_sky(sky_type="single", sun_elevation=math.radians(15.0), sun_rotatio
     table = _depth_table(atm)
     rows = math.pi / 2 - math.pi * (np.arange(height) + 0.5) / height  # row elevations, zenith first
     rel = np.linspace(0.0, math.pi, 181)  # azimuth from the Sun's, 1° apart
-    upper = rows[: height // 2]
+    # elevations computed: (π/2)x² for x evenly spaced (dense at the horizon, as Cycles' table),
+    # then interpolated linearly to the image's rows
+    n = max(height // 4, 8)
+    ups = math.pi / 2 * np.linspace(0.0, 1.0, n + 1) ** 2
+    upper_rows = rows[: height // 2]
     if sky_type == "single":
         horizon = math.pi / 2 * 0.016 ** 2  # Cycles' texture row just above the horizon
-        L = sky_radiance(atm, np.append(upper, horizon), rel, sun_elevation, altitude, table=table)
-        rgb = spectrum_to_rgb(L)
+        rgb = spectrum_to_rgb(sky_radiance(atm, np.append(ups, horizon), rel, sun_elevation, altitude, table=table))
         z = np.sin(rows[height // 2:])
         fade = np.where(z > -0.4, (1.0 + 2.5 * z) ** 3, 0.0)
-        table_rgb = np.concatenate([rgb[:-1], rgb[-1][None] * fade[:, None, None]])
+        table_rgb = np.concatenate([_rows_at(ups, rgb[:-1], upper_rows), rgb[-1][None] * fade[:, None, None]])
     else:
-        table_rgb = spectrum_to_rgb(sky_radiance(atm, rows, rel, sun_elevation, altitude, table=table))
+        downs = -ups[::-1]
+        rgb = spectrum_to_rgb(sky_radiance(atm, np.concatenate([downs, ups[1:]]), rel, sun_elevation, altitude,
+                                           table=table))
+        table_rgb = _rows_at(np.concatenate([downs, ups[1:]]), rgb, rows)
     # resample from the Sun's azimuth to the image's columns (u = 1/2 − φ/2π)
     phi = math.pi - 2.0 * math.pi * (np.arange(width) + 0.5) / width
     sun_phi = math.pi / 2 - sun_rotation
@@ -416,6 +422,13 @@ def blender_sky(sky_type="single", sun_elevation=math.radians(15.0), sun_rotatio
     irr.setflags(write=False)
     illuminance = float(C.K_M * np.sum(_v_lambda(wl) * irr) * (wl[1] - wl[0]))
     return Daylight(image, direction, wl, irr, illuminance, float(sun_size))
+
+
+def _rows_at(elevations, values, rows):
+    """``values`` (len(elevations) ascending, A, 3) interpolated linearly to the elevations ``rows``."""
+    i = np.clip(np.searchsorted(elevations, rows) - 1, 0, elevations.size - 2)
+    f = np.clip((rows - elevations[i]) / (elevations[i + 1] - elevations[i]), 0.0, 1.0)[:, None, None]
+    return (1.0 - f) * values[i] + f * values[i + 1]
 
 
 def _v_lambda(wl):

@@ -108,7 +108,8 @@ def _sky(ctx, name, tex, strength):
     params = dict(sky_type=kind, sun_elevation=float(tex.sun_elevation), sun_rotation=float(tex.sun_rotation),
                   sun_size=float(tex.sun_size), sun_intensity=float(tex.sun_intensity), sun_disc=bool(tex.sun_disc),
                   altitude=float(tex.altitude), air_density=float(tex.air_density),
-                  aerosol_density=float(tex.aerosol_density), ozone_density=float(tex.ozone_density))
+                  aerosol_density=float(getattr(tex, "aerosol_density", getattr(tex, "dust_density", 1.0))),
+                  ozone_density=float(tex.ozone_density))  # Blender 4.x's Nishita names aerosols "dust"
     day = blender_sky(**params)
     world = World(image=day.image, image_scale=float(strength))
     if day.sun_direction is None or not day.sun_illuminance > 0.0:

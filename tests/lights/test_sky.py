@@ -133,6 +133,19 @@ def test_preetham_zenith_is_its_closed_form():
         sky.preetham_sky(s, 0.5)
 
 
+def test_sun_light_follows_cycles_disc_conventions():
+    """Cycles' disc: centre radiance E·T/Ω, limb darkening 1 − 0.6(1 − cos ψ) (mean 0.8 over the disc);
+    its single-scattering sun leaves ozone out, its multiple-scattering one does not."""
+    e, alt = math.radians(35.0), 300.0
+    for kind, ozone in (("single", False), ("multiple", True)):
+        atm = sky.atmosphere(kind)
+        day = blender_sky(kind, e, 0.0, altitude=alt, width=16, height=8)
+        expected = sky.sun_irradiance_top() * atm.sun_scale * sky.sun_transmittance(atm, e, alt, ozone=ozone) * 0.8
+        np.testing.assert_allclose(day.sun_irradiance, expected, rtol=1e-9)
+    atm = sky.atmosphere("single")
+    assert np.all(sky.sun_transmittance(atm, e, alt, ozone=True) < sky.sun_transmittance(atm, e, alt, ozone=False))
+
+
 def test_bad_sky_type_is_a_clear_error():
     with pytest.raises(ValueError, match="sky type"):
         blender_sky("preetham")

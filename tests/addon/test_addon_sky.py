@@ -116,3 +116,18 @@ def test_multiple_scattering_sky_against_cycles(ext, bpy, tmp_path, elevation):
     ratio = _ratio(bpy, b, tmp_path)
     print(f"Multiple Scattering sky, sun {elevation:g}°: luminance ratio {ratio:.4f}")
     assert ratio == pytest.approx(1.0, abs=0.05)
+
+
+@pytest.mark.slow
+def test_sky_seen_by_the_camera_matches_cycles(ext, bpy, tmp_path):
+    """The sky itself, seen above a ground, looking away from the Sun: the world image's texels."""
+    b = ext.build
+    ground_under_the_sky(b, bpy, elevation=30.0, rotation=0.0)  # the Sun towards +Y
+    cam = b.scene.camera
+    cam.data.type = "PERSP"
+    cam.location = (0.0, 0.0, 1.5)
+    cam.rotation_euler = (math.radians(80.0), 0.0, math.radians(180.0))  # looking towards −Y, a little down
+    ratio = _ratio(bpy, b, tmp_path)
+    s = b.scene.spectral_gi
+    print(f"sky seen by the camera: luminance ratio {ratio:.4f}, ΔE00 mean {s.compare_delta_e_mean:.2f}")
+    assert ratio == pytest.approx(1.0, abs=0.05)

@@ -465,6 +465,9 @@ def _render(args, stop):
     bad = int(np.count_nonzero(~np.isfinite(dev.luminance)))
     if bad:  # validation bounds every input so that this cannot happen; if it does, it is not silent
         sys.stderr.write(f"spectral-gi: warning: {bad} pixels are not finite (NaN or Inf) in {out}\n")
+    if stats.dropped_samples:  # as above: left out of their pixels' means, and said
+        sys.stderr.write(f"spectral-gi: warning: {stats.dropped_samples} samples were not finite (NaN or Inf) "
+                         "and were left out of their pixels\n")
     if stats.stop_reason in ("time_limit", "noise_target"):
         sys.stderr.write(f"stopped at {stats.spp} of {st.spp} spp: {stats.stop_reason.replace('_', ' ')} reached "
                          f"(relative error {stats.relative_error:.3g})\n")

@@ -68,6 +68,23 @@ PROBE = textwrap.dedent("""
         return {"count": film.sums[..., 3].tolist(), "dropped": st.dropped_samples, "spp": st.spp,
                 "finite": bool(np.isfinite(y).all()), "mean": float(y.mean())}
 
+    def cli_lux(poke):
+        import contextlib, io, tempfile
+        from pathlib import Path
+        from spectral_gi import cli
+        from spectral_gi.core.scene import save
+
+        d = Path(tempfile.mkdtemp())
+        save(H.furnace_scene(rho=0.5), d / "box.json")
+        (d / "p.pts").write_text("0 0 0 0 0 1\\n0 0 0.5 0 0 1\\n")
+        POKE.clear()
+        POKE.update(poke)
+        err = io.StringIO()
+        with contextlib.redirect_stderr(err):
+            code = cli.main(["lux", str(d / "box.json"), "--sensors", str(d / "p.pts"), "--spp", "16",
+                             "--threads", "1", "--out", str(d / "lux.csv")])
+        return {"code": code, "stderr": err.getvalue()}
+
     out = {
         "white": lux(1.0, spp=64),
         "inf_reflectance": lux(0.5, {"reflectance": np.inf}, spp=64),
@@ -81,6 +98,7 @@ PROBE = textwrap.dedent("""
         "cam_inf_reflectance": camera(0.5, {"reflectance": np.inf}),
         "cam_nan_reflectance": camera(0.5, {"reflectance": np.nan}),
         "cam_inf_emission": camera(0.5, {"emission": np.inf}),
+        "cli_inf_emission": cli_lux({"emission": np.inf}),
     }
     print(json.dumps(out))
 """)
@@ -133,3 +151,14 @@ def test_a_camera_render_ends_and_counts_what_it_drops(probe):
     assert c["spp"] == 16 and c["dropped"] == 16 * 4 * 4
     assert c["count"] == [[0.0] * 4] * 4  # no pixel holds a sample: it develops as black, not NaN
     assert c["finite"] and c["mean"] == 0.0
+
+
+@pytest.mark.slow
+def test_the_command_line_says_what_it_dropped_and_refuses_no_result_in_one_line_each(probe):
+    c = probe["cli_inf_emission"]
+    assert c["code"] == 2, c["stderr"]  # every sample dropped: no value to write, no CSV
+    lines = [line for line in c["stderr"].splitlines() if line.startswith("spectral-gi: ")]
+    assert lines == ["spectral-gi: warning: 32 of 32 samples were not finite (NaN or Inf) and were dropped, at 2 "
+                     "point(s) from index 0; the samples used are returned per point",
+                     "spectral-gi: error: the integrator's lux must be finite (value 0 is not)"], c["stderr"]
+    assert "Traceback" not in c["stderr"] and "NonFiniteSamples:" not in c["stderr"]

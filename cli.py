@@ -459,6 +459,9 @@ def _render(args, stop):
     bad = int(np.count_nonzero(~np.isfinite(dev.luminance)))
     if bad:  # validation bounds every input so that this cannot happen; if it does, it is not silent
         sys.stderr.write(f"spectral-gi: warning: {bad} pixels are not finite (NaN or Inf) in {out}\n")
+    if stats.dropped_samples:  # as above: left out of their pixels' means, and said
+        sys.stderr.write(f"spectral-gi: warning: {stats.dropped_samples} samples were not finite (NaN or Inf) "
+                         "and were left out of their pixels\n")
     if stats.stop_reason in ("time_limit", "noise_target"):
         sys.stderr.write(f"stopped at {stats.spp} of {st.spp} spp: {stats.stop_reason.replace('_', ' ')} reached "
                          f"(relative error {stats.relative_error:.3g})\n")
@@ -530,9 +533,20 @@ def _lux_run(args, scene, bar, done, t0, farm):
         bar(samples, total, samples / max(time.perf_counter() - t0, 1e-9))
 
     def estimate(sc, points, normals):
-        lux, se, spp = illuminance(sc, points, normals, spp=4096 if args.rel_error else args.spp,
-                                   rel_error=args.rel_error, max_depth=args.max_depth, seed=args.seed,
-                                   threads=args.threads or None, progress=progress, client=farm)
+        import warnings
+
+        from .core.integrators.illuminance import NonFiniteSamples
+
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always", NonFiniteSamples)
+            lux, se, spp = illuminance(sc, points, normals, spp=4096 if args.rel_error else args.spp,
+                                       rel_error=args.rel_error, max_depth=args.max_depth, seed=args.seed,
+                                       threads=args.threads or None, progress=progress, client=farm)
+        for w in said:  # one line each (validated input cannot produce them)
+            if issubclass(w.category, NonFiniteSamples):
+                sys.stderr.write(f"spectral-gi: warning: {w.message}\n")
+            else:
+                warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
         done["spp"] = int(np.sum(spp))
         return lux, se
 

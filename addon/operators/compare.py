@@ -24,6 +24,7 @@ Both end in ``finish_comparison`` (numbers, images, JSON, panel values).
 """
 import json
 import os
+import shutil
 import tempfile
 import time
 
@@ -202,16 +203,21 @@ class CyclesRender:
         import numpy as np
 
         self.seconds = time.perf_counter() - self._t0
-        workdir = self.workdir or tempfile.mkdtemp(prefix="spectral-gi-cycles-")
+        own = self.workdir is None  # a folder of its own, removed once the EXR is read back
+        workdir = tempfile.mkdtemp(prefix="spectral-gi-cycles-") if own else self.workdir
         path = os.path.join(workdir, "cycles.exr")
         try:
-            img = bpy.data.images.get("Render Result")
-            if img is None:
-                raise RuntimeError("Cycles left no render result")
-            img.save_render(filepath=path, scene=self.scene)  # with the overridden EXR settings
+            try:
+                img = bpy.data.images.get("Render Result")
+                if img is None:
+                    raise RuntimeError("Cycles left no render result")
+                img.save_render(filepath=path, scene=self.scene)  # with the overridden EXR settings
+            finally:
+                self.abort()
+            chans, _header = read_exr(path)
         finally:
-            self.abort()
-        chans, _header = read_exr(path)
+            if own:
+                shutil.rmtree(workdir, ignore_errors=True)
         try:
             rgb = np.stack([chans[k] for k in ("R", "G", "B")], axis=-1)
         except KeyError:
@@ -359,8 +365,7 @@ def compare_with_cycles(scene, depsgraph, out_dir=None, json_path=None, spp=None
     t1 = time.perf_counter()
     out_dir = out_dir or output_dir(scene)
     ref_rgb = render_cycles_rgb(scene, matched["samples"], matched["max_bounces"], matched["pixel_filter"],
-                                matched["filter_width"], matched["seed"],
-                                workdir=tempfile.mkdtemp(prefix="spectral-gi-cycles-"))
+                                matched["filter_width"], matched["seed"])
     return finish_comparison(scene, ours_rgb, ref_rgb, matched, t_ours, time.perf_counter() - t1, out_dir,
                              json_path, log)
 

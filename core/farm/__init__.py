@@ -266,7 +266,8 @@ def render_farm(scene, client, *, engine, progress=None, should_cancel=None, on_
             owned.close()
     elapsed = time.perf_counter() - t0
     stats = engine.RenderStats(film.spp, elapsed, (film.spp - start) * cam.width * cam.height / max(elapsed, 1e-9),
-                               reason == "cancelled", 0.0, 0.0, reason, engine.relative_error(film))
+                               reason == "cancelled", 0.0, 0.0, reason, engine.relative_error(film),
+                               film.dropped_samples())
     return film, stats
 
 

@@ -201,6 +201,11 @@ class Film:
         """The first sample of the incomplete chunk (spp at a chunk boundary)."""
         return self.spp - self.tail_spp
 
+    def dropped_samples(self):
+        """How many of the film's spp × pixels samples it does not hold: the path kernel leaves
+        out a sample that is not finite (NaN or Inf, which validated input cannot produce)."""
+        return int(round(self.spp * self.width * self.height - float(self.sums[..., 3].sum())))
+
     def _blank(self):
         f = Film(self.width, self.height, self.spectral_bins, observer=self.observer)
         return f

@@ -25,8 +25,9 @@ sampling:
   brings back along ω: emitters hit there are MIS-weighted against their NEE pdf seen from
   x, and every further vertex is the path kernel's own (its fragments: surfaces, BSDFs,
   textures, mixes, null surfaces and media, emitters and the world; NEE + MIS at each
-  vertex; Russian roulette with survival probability from the throughput, so no bounce
-  limit is needed and none is set unless ``max_depth`` asks for one).
+  vertex; Russian roulette with survival probability from the throughput, at most 0.95,
+  so no bounce limit is needed, even where nothing absorbs, and none is set unless
+  ``max_depth`` asks for one).
 
 What is spectral: each sample carries N_WAVELENGTHS wavelengths (a hero drawn from the
 visible-wavelength density and equally offset companions, Wilkie et al. 2014, as the path
@@ -57,6 +58,7 @@ by drawing the horizontal normal's azimuth per sample (dimension 6).
 from __future__ import annotations
 
 import math
+import warnings
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
@@ -82,6 +84,12 @@ MODE_ILLUMINANCE = 0  # on the plane with the given normal
 MODE_LUMINANCE = 1  # along the given direction (cd/m²)
 MODE_CYLINDRICAL = 2  # mean vertical illuminance over every azimuth
 MODE_SEMICYLINDRICAL = 3  # mean vertical illuminance over the half circle about the given facing direction
+
+
+class NonFiniteSamples(RuntimeWarning):
+    """Some samples of a point measure were NaN or Inf (which validated input cannot
+    produce) and were left out of its mean; the samples used are returned per point."""
+
 
 NO_DEPTH_LIMIT = 1 << 30  # max_depth=None: Russian roulette alone ends paths
 FIRST_BATCH = 16  # samples per point in the first batch; batches double up to MAX_BATCH
@@ -449,7 +457,8 @@ def _measure(scene, mode, pts, q, spp, rel_error, max_depth, seed, threads, shou
     n = pq.shape[0]
     s1 = np.zeros(n)
     s2 = np.zeros(n)
-    cnt = np.zeros(n, np.int64)
+    cnt = np.zeros(n, np.int64)  # the finite samples each sum holds
+    drawn = np.zeros(n, np.int64)  # the samples drawn
     active = np.ones(n, bool)
     if subset is not None:
         active[:] = False
@@ -463,18 +472,32 @@ def _measure(scene, mode, pts, q, spp, rel_error, max_depth, seed, threads, shou
             if idx.size == 0 or (should_cancel is not None and should_cancel()):
                 break
             vals = _run_batch(prep, st, pq, mode, vcmf, idx, span, pool, n_threads, chunk)
+            with np.errstate(over="ignore", invalid="ignore"):
+                sq = vals * vals
+            ok = np.isfinite(vals) & np.isfinite(sq)  # a sample that is not finite is dropped
+            vals[~ok] = 0.0
+            sq[~ok] = 0.0
             s1[idx] += vals.sum(axis=1)
-            s2[idx] += (vals * vals).sum(axis=1)
-            cnt[idx] = span[1]
+            s2[idx] += sq.sum(axis=1)
+            cnt[idx] += ok.sum(axis=1)
+            drawn[idx] = span[1]
             if rel_error is not None and span[1] >= MIN_SAMPLES_REL:
                 mean, se = _stats(s1[idx], s2[idx], cnt[idx])
                 done = (se <= float(rel_error) * np.abs(mean)) | ((mean == 0.0) & (se == 0.0))
+                # no target to reach: every sample dropped, or sums that overflowed
+                done |= np.isnan(mean) | np.isnan(se) | ~np.isfinite(s1[idx] + s2[idx])
                 active[idx[done]] = False
             if progress is not None:
-                progress(int(np.where(active, cnt, spp).sum()) - (n - n_measured) * spp, n_measured * spp)
+                progress(int(np.where(active, drawn, spp).sum()) - (n - n_measured) * spp, n_measured * spp)
     finally:
         if pool is not None:
             pool.shutdown(wait=True)
+    dropped = int((drawn - cnt).sum())
+    if dropped:
+        bad = np.flatnonzero(drawn > cnt)
+        warnings.warn(f"{dropped} of {int(drawn.sum())} samples were not finite (NaN or Inf) and were dropped, "
+                      f"at {bad.size} point(s) from index {int(bad[0])}; the samples used are returned per point",
+                      NonFiniteSamples, stacklevel=3)
     mean, se = _stats(s1, s2, cnt)
     return mean, se, cnt
 
@@ -500,7 +523,9 @@ _DOC_ARGS = """
     client: a dask.distributed Client, scheduler address or "local:N" to split the points
     across a farm's workers (core/farm; the same values).
     Returns (values (N,), standard errors (N,), samples used (N,) int64). Bit-identical for
-    any number of threads."""
+    any number of threads. A sample that is not finite (NaN or Inf, which validated input
+    cannot produce) is dropped: the samples used count only the finite ones, and a
+    NonFiniteSamples warning says how many were dropped."""
 
 
 def illuminance(scene, points, normals, *, spp=256, rel_error=None, max_depth=None, seed=None, threads=None,

@@ -59,6 +59,7 @@ STRATIFIED_DIMS = 17
 
 # Ray offset against self-intersection: relative to the scene's coordinate magnitude.
 EPS_REL = 1e-5
+RR_MAX_SURVIVAL = 0.95  # Russian roulette: the most a path's survival probability can be (``_roulette``)
 WORK_ROWS = 11  # rows of render_rows' scratch ``work``: λ, pdf(λ), β, L, ρa, ρb, η, κ, f, Le, λ cell fraction
 
 
@@ -550,7 +551,10 @@ def _textures(m, prim, bu, bv, sn, d, cos_i, pm, scr, spec, txr):
 def _splat(film, spectral, y, x, rad, pdf_lam, lam, cmf, photometric):
     """Add the path's spectral radiance estimate to pixel (x, y): CIE XYZ, the sample count
     and the sum of Y² (or, when ``photometric``, the V(λ)-weighted Y and its square), and
-    the spectral bins."""
+    the spectral bins. A sample whose XYZ, V or square is not finite (NaN or Inf, which
+    validated input cannot produce) is left out, the count included: the pixel is the mean
+    of its finite samples and the film's count tells how many were dropped. Returns whether
+    the sample was added."""
     n_bins = spectral.shape[2]
     bin_width = (LMAX - LMIN) / max(n_bins, 1)
     X = 0.0
@@ -565,20 +569,24 @@ def _splat(film, spectral, y, x, rad, pdf_lam, lam, cmf, photometric):
             Z += v * lookup_cmf(cmf, 2, lam[i])
             if photometric:
                 V += v * lookup_cmf(cmf, 3, lam[i])
-            if n_bins > 0:
+    sq = V * V if photometric else Y * Y
+    if not math.isfinite(X + Y + Z + V + sq):
+        return False
+    if n_bins > 0:
+        for i in range(NW):
+            if pdf_lam[i] > 0.0:
                 b = int((lam[i] - LMIN) / bin_width)
                 if b >= n_bins:
                     b = n_bins - 1
-                spectral[y, x, b] += v / bin_width
+                spectral[y, x, b] += rad[i] / (pdf_lam[i] * NW) / bin_width
     film[y, x, 0] += X
     film[y, x, 1] += Y
     film[y, x, 2] += Z
     film[y, x, 3] += 1.0
+    film[y, x, 4] += sq
     if photometric:
-        film[y, x, 4] += V * V
         film[y, x, 5] += V
-    else:
-        film[y, x, 4] += Y * Y
+    return True
 
 
 class Scratch(NamedTuple):
@@ -669,17 +677,21 @@ def _segment(geo, mat, emt, st, smp, cfg, scr, o, d, t_lo, medium, depth, dim, p
 def _roulette(st, smp, beta, q, depth, dim):
     """Russian roulette after a scattering event (``depth`` counts it): the path ends when its
     largest throughput ``q`` is 0 or not finite (NaN or Inf, which validated input cannot
-    produce; such a path would never be ended by the roulette), and from rr_depth on it survives with probability q < 1,
-    β divided by q (one dimension drawn). Returns (alive, dim)."""
+    produce), and from rr_depth on it survives with probability min(q, RR_MAX_SURVIVAL), β
+    divided by that probability (one dimension drawn). The cap keeps every path finite where
+    the throughput does not fall: a closed room of reflectance 1, a chain of mirrors or total
+    internal reflection, or the point measures' β = π, with no depth limit; as in Mitsuba 3's
+    path integrator (src/integrators/path.cpp, survival min(max β η², 0.95)). Returns (alive,
+    dim)."""
     key, pseed, s = smp
     if not 0.0 < q < math.inf:  # nothing left, or a non-finite throughput: never carried further
         return False, dim
     if depth >= st.rr_depth:
-        if q < 1.0:
-            if rnd_f(st.sampler, key, pseed, s, dim, st.n_total) >= q:
-                return False, dim
-            for i in range(NW):
-                beta[i] /= q
+        p = min(q, RR_MAX_SURVIVAL)
+        if rnd_f(st.sampler, key, pseed, s, dim, st.n_total) >= p:
+            return False, dim
+        for i in range(NW):
+            beta[i] /= p
         dim += 1
     return True, dim
 
@@ -1077,10 +1089,12 @@ def _next_ray(geo, med, cfg, scr, hit, shade, wi, prim, vol):
 @inline
 def _film_add(fr, y, x, scr, axyz, transp, photometric):
     """The path's estimate into pixel (x, y) of the film record: XYZ, count, Y² and the
-    spectral bins (``_splat``), the albedo AOV's XYZ and the transparent-sample count."""
+    spectral bins (``_splat``), the albedo AOV's XYZ and the transparent-sample count; none
+    of them for a sample ``_splat`` leaves out."""
     work = scr.work
     aov = fr.aov
-    _splat(fr.sums, fr.spectral, y, x, work[3], work[1], work[0], fr.cmf, photometric)
+    if not _splat(fr.sums, fr.spectral, y, x, work[3], work[1], work[0], fr.cmf, photometric):
+        return
     aov[y, x, 0] += axyz[0]
     aov[y, x, 1] += axyz[1]
     aov[y, x, 2] += axyz[2]

@@ -150,6 +150,7 @@ class RenderStats:
     compile_seconds: float
     stop_reason: str = "spp"  # "spp" (all samples), "time_limit", "noise_target" or "cancelled"
     relative_error: float = float("nan")  # relative standard error of the image's mean luminance
+    dropped_samples: int = 0  # samples the film does not hold for not being finite (Film.dropped_samples)
 
 
 def relative_error(film):
@@ -374,5 +375,6 @@ def _progressive(prep, film, pool, total, progress, should_cancel, on_pass, t_co
             step = int(max(1, min(step * 4, round(n * target / dt))))
     elapsed = time.perf_counter() - t0
     stats = RenderStats(done, elapsed, (done - start) * cam.width * cam.height / max(elapsed, 1e-9),
-                        reason == "cancelled", prep.build_seconds, t_compile, reason, relative_error(film))
+                        reason == "cancelled", prep.build_seconds, t_compile, reason, relative_error(film),
+                        film.dropped_samples())
     return film, stats

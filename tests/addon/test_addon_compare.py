@@ -29,7 +29,12 @@ def diffuse_scene(b, w=24, h=24, spp=64):
     s.samples, s.max_bounces, s.seed = spp, 8, 1
 
 
-def test_compare_with_cycles_on_a_diffuse_scene(ext, bpy, tmp_path):
+def test_compare_with_cycles_on_a_diffuse_scene(ext, bpy, tmp_path, monkeypatch):
+    import tempfile
+
+    temp = tmp_path / "temp"  # the system's temporary folder, for this test
+    temp.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(temp))
     b = ext.build
     diffuse_scene(b)
     scene = b.scene
@@ -63,6 +68,7 @@ def test_compare_with_cycles_on_a_diffuse_scene(ext, bpy, tmp_path):
     px = np.empty(de.size[0] * de.size[1] * 4, np.float32)
     de.pixels.foreach_get(px)
     assert np.isfinite(px).all() and px.max() > 0.0
+    assert not list(temp.iterdir())  # Cycles' EXR and its folder are removed once read back
 
 
 def test_rotated_environment_matches_cycles(ext, bpy, tmp_path):

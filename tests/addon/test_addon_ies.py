@@ -82,21 +82,31 @@ def test_preset_profile_and_brightness_from_the_lights_unit(ext, bpy):
     assert _only_light(res).profile == -1 and res.scene.profiles == []
 
 
-@pytest.mark.parametrize("content, problem", [(None, "no such file"),
-                                              ("IESNA:LM-63-2002\nTILT=NONE\n1 -1 1 3", "truncated"),
-                                              ("IESNA:LM-63-2002\nTILT=INCLUDE\n", "TILT=INCLUDE")])
-def test_bad_profile_file_is_reported_not_fatal(ext, bpy, tmp_path, content, problem):
+# an EULUMDAT file whose cd/klm × lamp flux (1e300 lm) overflows: refused, never infinite candela
+OVERFLOWING_LDT = "\n".join(
+    ["c", "1", "1", "4", "90", "2", "90", "r", "l", "n", "f.ldt", "d", "100", "100", "50", "80", "80", "0", "0", "0",
+     "0", "100", "100", "1", "0", "1", "1", "lamp", "1e300", "3000 K", "1B", "10"]
+    + ["0.5"] * 10 + ["0", "90", "180", "270", "0", "90", "1e10", "5e9"]) + "\n"
+
+
+@pytest.mark.parametrize("content, problem, name", [
+    (None, "no such file", "broken.ies"),
+    ("IESNA:LM-63-2002\nTILT=NONE\n1 -1 1 3", "truncated", "broken.ies"),
+    ("IESNA:LM-63-2002\nTILT=INCLUDE\n", "TILT=INCLUDE", "broken.ies"),
+    (OVERFLOWING_LDT, "broken.ldt: ", "broken.ldt"),
+])
+def test_bad_profile_file_is_reported_not_fatal(ext, bpy, tmp_path, content, problem, name):
     b = ext.build
     b.camera()
     obj = b.light("Broken", "POINT", location=(0, 0, 2), energy=10.0)
-    path = tmp_path / "broken.ies"
+    path = tmp_path / name
     if content is not None:
         path.write_text(content)
     obj.data.spectral_gi.profile = "FILE"
     obj.data.spectral_gi.profile_path = str(path)
     res = b.export(ext)
     assert res.warning is not None and "Broken" in res.warning and problem in res.warning
-    assert "broken.ies" in res.warning
+    assert name in res.warning
     L = _only_light(res)
     assert L.profile == -1  # rendered as a plain point light
     assert L.intensity == pytest.approx(K_M * 10.0 / (4 * math.pi), rel=1e-6)

@@ -103,3 +103,48 @@ def test_metadata_that_json_cannot_hold_is_refused_by_save(tmp_path, value):
     with pytest.raises(S.SceneError, match="metadata: cannot be written as JSON"):
         S.save(sc, tmp_path / "s.json")
     assert list(tmp_path.iterdir()) == []
+
+
+# --------------------------------------------------------------------------- scene-file sizes
+
+def _saved_doc(tmp_path):
+    import json
+
+    path = S.save(furnace_scene(), tmp_path / "s.json")
+    return path, json.loads(path.read_text())
+
+
+@pytest.mark.parametrize("where", ["materials[0].name", "metadata.note", "a key of metadata"])
+def test_a_string_longer_than_the_limit_is_refused_naming_where(tmp_path, where):
+    import json
+
+    path, doc = _saved_doc(tmp_path)
+    long = "x" * (S.MAX_STRING + 1)
+    if where == "materials[0].name":
+        doc["materials"][0]["name"] = long
+    elif where == "metadata.note":
+        doc["metadata"] = {"note": long}
+    else:
+        doc["metadata"] = {long: 1}
+    path.write_text(json.dumps(doc))
+    with pytest.raises(S.SceneError) as e:
+        S.load(path)
+    msg = str(e.value)
+    assert f"of {S.MAX_STRING + 1} characters (at most {S.MAX_STRING})" in msg and "\n" not in msg
+    assert msg.startswith("metadata" if where == "a key of metadata" else where)
+    path.write_text(json.dumps(doc).replace(long, long[:-1]))
+    if where == "materials[0].name":  # within the file's limit, a name still has its own
+        with pytest.raises(S.SceneError, match=r"^materials\[0\]\.name: a string of 65536 characters \(at most 4096"):
+            S.load(path)
+    else:  # the limit itself is allowed
+        S.load(path)
+
+
+def test_a_scene_file_larger_than_the_limit_is_refused_before_it_is_parsed(tmp_path, monkeypatch):
+    path, _doc = _saved_doc(tmp_path)
+    size = path.stat().st_size
+    monkeypatch.setattr(S, "MAX_JSON_BYTES", size - 1)
+    with pytest.raises(S.SceneError, match=f"has {size} bytes, more than {size - 1}"):
+        S.load(path)
+    monkeypatch.setattr(S, "MAX_JSON_BYTES", size)
+    S.load(path)

@@ -31,6 +31,7 @@ shots).
 """
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 
@@ -76,11 +77,17 @@ def _matvec(F, B):
 
 
 def residual(F, rho, E, B, area=None):
-    """The relative residual of B (see the module text)."""
+    """The relative residual of B (see the module text); NaN when B or its residual is not
+    finite (NaN or Inf, which validated input cannot produce): such a B is never converged,
+    and the loops, which go on while the residual is above ``tol``, stop at it."""
     F, rho, E, area = _check(F, rho, E, area)
-    r = E + rho * _matvec(F, B) - B
-    den = float(np.sum(area[:, None] * np.abs(B)))
-    return float(np.sum(area[:, None] * np.abs(r))) / den if den > 0 else 0.0
+    with np.errstate(invalid="ignore", over="ignore"):
+        r = E + rho * _matvec(F, B) - B
+        num = float(np.sum(area[:, None] * np.abs(r)))
+        den = float(np.sum(area[:, None] * np.abs(B)))
+    if not (math.isfinite(num) and math.isfinite(den)):
+        return math.nan
+    return num / den if den > 0 else 0.0
 
 
 def _loop(name, step, F, rho, E, area, tol, max_iter, progress, should_cancel):

@@ -236,18 +236,28 @@ class InteractiveRender:
         return dataclasses.replace(self._prep, scene=scene, camera=camera_record.pack(scene))
 
     def _compile(self, prep):
+        """Compile (or load) the kernels unless loaded; False if stopped while another thread compiled them."""
         if warmup.kernels_compiled():
-            return
-        self.status("Compiling kernels (first run only)" if not warmup.kernel_cached() else "Loading compiled kernels")
-        t0 = time.perf_counter()
-        helper = warmup.start()
+            return True
+        if not warmup.hold_compile(self.status, lambda: self._stop):
+            return False
         try:
-            if helper is not None:  # this process's share of the helpers, then the second one's
-                warmup.compile_group(False)
-                warmup.finish(helper, grace=time.perf_counter() - t0)
-            _rows(prep, Film(1, 1, observer=prep.scene.settings.observer), 0, 1, 0, 1)
+            if warmup.kernels_compiled():  # compiled by the thread this one waited for
+                return True
+            self.status("Compiling kernels (first run only)" if not warmup.kernel_cached()
+                        else "Loading compiled kernels")
+            t0 = time.perf_counter()
+            helper = warmup.start()
+            try:
+                if helper is not None:  # this process's share of the helpers, then the second one's
+                    warmup.compile_group(False)
+                    warmup.finish(helper, grace=time.perf_counter() - t0)
+                _rows(prep, Film(1, 1, observer=prep.scene.settings.observer), 0, 1, 0, 1)
+            finally:
+                warmup.finish(helper)
+            return True
         finally:
-            warmup.finish(helper)
+            warmup.release_compile()
 
     def _pass(self, prep, film, s0, s1, generation):
         """Samples [s0, s1) into ``film`` in blocks of rows; False if an update stopped it."""
@@ -311,7 +321,8 @@ class InteractiveRender:
                     generation, updated_at, level, film, step, first = gen, at, 0, None, 1, True
                 if self._prep is None:
                     continue
-                self._compile(self._prep)
+                if not self._compile(self._prep):
+                    continue  # stopped while waiting: _take returns None
                 self.status("Rendering")
                 pixel_size = self.pixel_sizes[level]
                 prep = self._level_prep(pixel_size)

@@ -10,7 +10,10 @@ the scene prepared (the BVH builder compiled on a cold start), the kernels compi
 loaded), the first pass on screen, and the last; and the render's own time. The cold run
 uses the second compile process (core/warmup.py) as a first render does.
 
-``--profile`` adds a third process, cold again and compiling in one process
+``--blender`` installs the Blender extension (built by ``tools/build_extension.py``) in
+background bpy with an empty cache and times its background compile (``addon/background.py``,
+started when the extension is enabled) and then an F12 render of the Cornell box.
+``--profile`` adds a process, cold again and compiling in one process
 (``SPECTRAL_GI_PARALLEL_COMPILE=0``), that listens to numba's compile events and prints
 where the compile time goes: each function's own time (its callees' compiles taken out),
 summed by module, and the largest functions. Installing the package (pip) is not timed:
@@ -67,6 +70,50 @@ print(json.dumps({"import": t_import, "prepared": marks["kernels"] - st.compile_
 """
 
 
+_BLENDER = r"""
+import importlib.util, json, os, sys, tempfile, time
+t0 = time.perf_counter()
+os.environ["BLENDER_USER_RESOURCES"] = tempfile.mkdtemp(prefix="sgi-blender-user-")
+repo = sys.argv[1]
+import bpy
+spec = importlib.util.spec_from_file_location("build_extension", os.path.join(repo, "tools", "build_extension.py"))
+tool = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(tool)
+zip_path = tool.build(tempfile.mkdtemp(prefix="sgi-dist-"), quiet=True)
+t_start = time.perf_counter()
+assert bpy.ops.extensions.package_install_files(filepath=str(zip_path), repo="user_default",
+                                                enable_on_install=True) == {"FINISHED"}
+t_enabled = time.perf_counter() - t_start
+bg = sys.modules["bl_ext.user_default.spectral_gi.addon.background"]
+while bg.running():
+    time.sleep(0.05)
+t_ready = time.perf_counter() - t_start
+status = bg.status_text()
+bpy.ops.wm.read_homefile(use_empty=True)
+bpy.ops.spectral_gi.add_cornell_box()
+scene = bpy.context.scene
+scene.render.engine = "SPECTRAL_GI"
+scene.spectral_gi.samples = int(sys.argv[2])
+t = time.perf_counter()
+bpy.ops.render.render()
+t_render = time.perf_counter() - t
+job = sys.modules["bl_ext.user_default.spectral_gi.addon.render_job"]
+print(json.dumps({"enabled": t_enabled, "ready": t_ready, "status": status, "f12": t_render,
+                  "message": job.STATE.message, "size": scene.render.resolution_x}))
+"""
+
+
+def run_blender(cache, spp):
+    """Install and enable the extension in background bpy with an empty kernel cache; the
+    background compile's time, then F12 on the Cornell box."""
+    env = dict(os.environ, SPECTRAL_GI_CACHE_DIR=cache)
+    repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    out = subprocess.run([sys.executable, "-c", _BLENDER, repo, str(spp)], capture_output=True, text=True, env=env)
+    if out.returncode != 0:
+        raise SystemExit(out.stderr[-3000:])
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
 def run(cache, size, spp, profile=False, parallel=True):
     env = dict(os.environ, SPECTRAL_GI_CACHE_DIR=cache, SPECTRAL_GI_PARALLEL_COMPILE="1" if parallel else "0")
     t = time.perf_counter()
@@ -89,6 +136,9 @@ def main():
     ap.add_argument("--size", type=int, default=256)
     ap.add_argument("--spp", type=int, default=64)
     ap.add_argument("--profile", action="store_true", help="also profile a one-process cold compile")
+    ap.add_argument("--blender", action="store_true",
+                    help="also install the extension in background bpy on an empty cache and time its background "
+                         "compile and the first F12")
     a = ap.parse_args()
     print(f"cores: {os.cpu_count()}, load average before: {os.getloadavg()[0]:.2f}")
     runs = {}
@@ -107,6 +157,17 @@ def main():
         [[label, round(r["import"], 1), round(r["prepared"], 1), round(r["kernels"], 1), round(r["compile"], 1),
           round(r["first_pass"], 1), round(r["done"], 1), round(r["render"], 1)]
          for label, r in (("empty (cold)", runs["cold"]), ("filled (warm)", runs["warm"]))])]
+    if a.blender:
+        with tempfile.TemporaryDirectory(prefix="sgi-blender-") as cache:
+            b = run_blender(cache, a.spp)
+        print(f"Blender: extension installed and enabled {b['enabled']:.1f} s, background compile done "
+              f"{b['ready']:.1f} s after the install started ({b['status']}); then F12 on the Cornell box "
+              f"({b['size']}², {a.spp} spp) {b['f12']:.1f} s: {b['message']}")
+        tables.append(results.table(
+            "The extension installed in Blender (background bpy) on an empty kernel cache, seconds from the install",
+            ["installed and enabled", "background compile done", "status",
+             f"then F12, Cornell {b['size']}², {a.spp} spp"],
+            [[round(b["enabled"], 1), round(b["ready"], 1), b["status"], round(b["f12"], 1)]]))
     if a.profile:
         with tempfile.TemporaryDirectory(prefix="sgi-profile-") as cache:
             p = run(cache, 16, 1, profile=True, parallel=False)
@@ -134,7 +195,8 @@ def main():
         tables.append(results.table("The fifteen largest functions of that compile", ["function", "seconds"],
                                     [[k, round(t, 1)] for k, t in top]))
     print(f"load average after: {os.getloadavg()[0]:.2f}")
-    results.write("cold_start", tables, conditions={"size": a.size, "spp": a.spp, "profile": a.profile})
+    results.write("cold_start", tables, conditions={"size": a.size, "spp": a.spp, "profile": a.profile,
+                                                    "blender": a.blender})
 
 
 if __name__ == "__main__":

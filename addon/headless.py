@@ -108,8 +108,9 @@ def render_blend(blend, out, spp=None, compare_cycles=False, json_path=None, str
     if "#" in out.name:
         raise HeadlessError(f"--out: '#' in {out.name} would be replaced by the frame number")
     bpy = _import_bpy()
-    from . import registration
+    from . import background, registration
 
+    background.AUTOSTART = False  # this render compiles what it needs; nothing to compile ahead
     registration.register()  # idempotent: classes already registered are skipped
     try:
         bpy.ops.wm.open_mainfile(filepath=str(blend.resolve()), load_ui=False)
@@ -189,7 +190,7 @@ def render_blend(blend, out, spp=None, compare_cycles=False, json_path=None, str
                    "samples_per_second": float(stats.samples_per_second) if stats is not None else
                    samples * rgb.shape[0] * rgb.shape[1] / max(seconds, 1e-9),
                    "mean_luminance": mean_lum, "luminance_unit": "cd/m2", "png_view_transform": view,
-                   "engine_message": render_job.STATE.message}
+                   "engine_message": render_job.STATE.message, "sensors": sensor_summary(scene, render_job.STATE)}
         if not math.isfinite(mean_lum):
             raise HeadlessError(f"{out}: the image holds NaN or Inf")
         say(f"wrote {out} (passes {', '.join(passes)}) and {png}: {render_job.STATE.message or f'{samples} spp'}, "
@@ -207,6 +208,30 @@ def render_blend(blend, out, spp=None, compare_cycles=False, json_path=None, str
     if json_path:  # the JSON holds the render summary (and the comparison)
         write_json_atomic(str(json_path), summary)
     return summary
+
+
+def sensor_summary(scene, state):
+    """The sensor statistics of the render as fields of the JSON report, or None when the
+    scene's Sensors option is off: the sensor objects, and over the pixels fully on a sensor
+    their count, the mean, minimum and maximum illuminance (lux), the uniformity U0 = Emin / Em
+    and the standard error of the Emin pixel; the partly covered pixels left out are counted.
+    A value that is not defined (no sensor pixel in view) is null."""
+    from .imageio import sensors_enabled
+    from .properties.scene import SENSOR_PROPERTY
+
+    if not sensors_enabled(scene):
+        return None
+    objects = sorted(o.name for o in scene.objects if getattr(o, SENSOR_PROPERTY, False))
+    stats = getattr(state, "illuminance", None) or {}
+
+    def number(key, kind=float):
+        v = stats.get(key)
+        return kind(v) if v is not None and math.isfinite(float(v)) else None
+
+    return {"objects": objects, "count": len(objects), "unit": "lx",
+            "pixels": number("pixels", int) or 0, "excluded_pixels": number("excluded", int) or 0,
+            "min_coverage": number("min_coverage"), "Em": number("Em"), "Emin": number("Emin"),
+            "Emax": number("Emax"), "U0": number("U0"), "Emin_std": number("Emin_std")}
 
 
 def _save_png_as_blender_shows_it(bpy, scene, png, ov):

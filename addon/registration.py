@@ -4,16 +4,17 @@ Each module in ``MODULES`` has a ``classes`` tuple and may have ``register_extra
 / ``unregister_extra()`` (for properties attached to Blender types). Registering
 twice, or unregistering what is not registered, does nothing, so
 register → unregister → register is safe. ``core`` (and so numba) is never imported
-here: operators import it lazily. Compiled kernels go to the user's cache folder that
+here: operators import it lazily, and the background compile (``background.py``, started
+by ``preferences``) on a thread of its own. Compiled kernels go to the user's cache folder that
 the command line uses too (``core/jit.py``), under a key of the sources and the
 extension's import name, so reinstalling the same version does not compile again.
 """
 
 import bpy
 
-from . import engine, operators, properties, ui, versioning
+from . import engine, operators, preferences, properties, ui, versioning
 
-MODULES = (properties, versioning, engine, operators, ui)
+MODULES = (properties, versioning, engine, operators, ui, preferences)
 
 
 def extension_package(package=__package__):

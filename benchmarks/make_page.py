@@ -38,6 +38,8 @@ Run a benchmark with `python benchmarks/<name>.py --help` for its options, then
 TITLES = {
     "race": "The race: Cornell box against Cycles and Mitsuba 3 (`race.py`)",
     "compile_bench": "First compile on a cold cache (`compile_bench.py`)",
+    "cold_start": "Cold and warm start: the first Cornell render (`cold_start.py`)",
+    "viewport_edit": "Viewport: material edit to the first updated pass (`viewport_edit.py`)",
     "scale_bench": "BVH scale: build and traversal from 1 M to 16 M triangles (`scale_bench.py`)",
     "qmc_bench": "Quasi-Monte Carlo against independent samples (`qmc_bench.py`)",
     "spectra_bench": "Spectral representation: accuracy and evaluation speed (`spectra_bench.py`)",

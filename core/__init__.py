@@ -13,7 +13,7 @@ from .io.exr import read_channels as read_exr
 from .io.exr import write_render as write_exr
 from .io.png import encode_png, write_png
 from .io.presets import load_cornell_box_data
-from .integrators.render import RenderStats, kernels_compiled, render
+from .integrators.render import RenderStats, kernels_compiled, render, warm_up
 from .integrators.interactive import Frame, InteractiveRender
 from .film.denoise import DenoiseUnavailable, denoise, denoise_available
 from .scene import (
@@ -65,7 +65,7 @@ __all__ = [
     "reflectance_from_rgb", "emission_from_rgb", "reflectance_from_samples", "emission_from_samples",
     "reflectance_to_rgb", "emission_to_rgb",
     "emission_luminance", "area_light_luminance", "emitter_luminance", "EMITTER_UNITS",
-    "render", "RenderStats", "kernels_compiled", "Film", "Developed", "develop",
+    "render", "RenderStats", "kernels_compiled", "warm_up", "Film", "Developed", "develop",
     "InteractiveRender", "Frame", "denoise", "denoise_available", "DenoiseUnavailable",
     "write_exr", "read_exr", "write_png",
     "cornell_box", "load_cornell_box_data",

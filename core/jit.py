@@ -106,24 +106,30 @@ def _install_locator():
 
 _install_locator()
 
-def _process_lock():
-    """The lock every launch of a parallel (prange) kernel holds: numba's threading layers
-    abort the process when two threads launch parallel kernels at once, which would take
-    Blender down with them. One lock per process, shared by every copy of this package that is loaded.
+def _process_lock(name="_spectral_gi_kernel_lock"):
+    """A lock of this process, shared by every copy of this package that is loaded.
 
     Blender may hold two copies (an installed extension and a development checkout); they
-    share numba, so the lock lives on the numba module.
+    share numba, so the locks live on the numba module.
     """
     import numba
 
-    lock = getattr(numba, "_spectral_gi_kernel_lock", None)
+    lock = getattr(numba, name, None)
     if lock is None:
         lock = threading.Lock()
-        numba._spectral_gi_kernel_lock = lock
+        setattr(numba, name, lock)
     return lock
 
 
+# Held by every launch of a parallel (prange) kernel: numba's threading layers abort the
+# process when two threads launch parallel kernels at once, which would take Blender down with them.
 KERNEL_LOCK = _process_lock()
+# Held by a cold start from the first kernel compile (or cache load) to the end of the path
+# kernel's: a second render (or the add-on's background compile) started meanwhile waits for
+# it, then finds the kernels loaded, instead of compiling them a second time (and starting a
+# second compile process of its own). Not KERNEL_LOCK: the BVH builder takes that one inside
+# the compile.
+COMPILE_LOCK = _process_lock("_spectral_gi_compile_lock")
 
 
 _POLICY = dict(cache=True, nogil=True, error_model="numpy")

@@ -8,8 +8,9 @@ import math
 
 import bpy
 
-from .. import render_job
+from .. import background, render_job
 from ..export.convert import render_resolution
+from ..preferences import draw_status
 
 ENGINE = "SPECTRAL_GI"
 
@@ -44,6 +45,8 @@ class SPECTRALGI_PT_render(bpy.types.Panel):
                       icon="CANCEL")
         elif state.message:
             layout.label(text=state.message, icon="INFO")
+        if background.STATE.phase in (background.COMPILING, background.FAILED) or not state.message:
+            draw_status(layout)  # the background compile (once a render has run, its outcome says more)
 
         if settings is not None and not is_engine:
             # with Spectral GI as the render engine, the Sampling panel below shows these

@@ -33,6 +33,10 @@ from .render import PASS_SECONDS, _rows, prepare, thread_count
 
 PIXEL_SIZES = (4, 2, 1)  # the coarse passes' pixel sizes, then full resolution (1)
 PASS_TARGET = 0.5 * PASS_SECONDS  # seconds a full-resolution pass aims at
+# pixels of one block of rows, at most: an update stops a pass at its next block, so the
+# blocks in progress are what a restart waits for (8192 one-sample paths of the Cornell box:
+# about 0.04 s on one loaded core; a block of 1/16 of a 960 × 540 pass took 0.15 s)
+BLOCK_PIXELS = 8192
 
 
 class Frame(NamedTuple):
@@ -236,25 +240,36 @@ class InteractiveRender:
         return dataclasses.replace(self._prep, scene=scene, camera=camera_record.pack(scene))
 
     def _compile(self, prep):
+        """Compile (or load) the kernels unless loaded; False if stopped while another thread compiled them."""
         if warmup.kernels_compiled():
-            return
-        self.status("Compiling kernels (first run only)" if not warmup.kernel_cached() else "Loading compiled kernels")
-        t0 = time.perf_counter()
-        helper = warmup.start()
+            return True
+        if not warmup.hold_compile(self.status, lambda: self._stop):
+            return False
         try:
-            if helper is not None:  # this process's share of the helpers, then the second one's
-                warmup.compile_group(False)
-                warmup.finish(helper, grace=time.perf_counter() - t0)
-            _rows(prep, Film(1, 1, observer=prep.scene.settings.observer), 0, 1, 0, 1)
+            if warmup.kernels_compiled():  # compiled by the thread this one waited for
+                return True
+            self.status("Compiling kernels (first run only)" if not warmup.kernel_cached()
+                        else "Loading compiled kernels")
+            t0 = time.perf_counter()
+            helper = warmup.start()
+            try:
+                if helper is not None:  # this process's share of the helpers, then the second one's
+                    warmup.compile_group(False)
+                    warmup.finish(helper, grace=time.perf_counter() - t0)
+                _rows(prep, Film(1, 1, observer=prep.scene.settings.observer), 0, 1, 0, 1)
+            finally:
+                warmup.finish(helper)
+            return True
         finally:
-            warmup.finish(helper)
+            warmup.release_compile()
 
     def _pass(self, prep, film, s0, s1, generation):
         """Samples [s0, s1) into ``film`` in blocks of rows; False if an update stopped it."""
         h = film.height
         pool = self._pool
         workers = getattr(pool, "_max_workers", 1) if pool is not None else 1
-        block = max(1, h // (8 * workers))
+        # an update waits for the blocks in progress: at most BLOCK_PIXELS paths a block
+        block = max(1, min(h // (8 * workers), BLOCK_PIXELS // max(1, film.width)))
         starts = range(0, h, block)
         if pool is None:
             for y in starts:
@@ -311,7 +326,8 @@ class InteractiveRender:
                     generation, updated_at, level, film, step, first = gen, at, 0, None, 1, True
                 if self._prep is None:
                     continue
-                self._compile(self._prep)
+                if not self._compile(self._prep):
+                    continue  # stopped while waiting: _take returns None
                 self.status("Rendering")
                 pixel_size = self.pixel_sizes[level]
                 prep = self._level_prep(pixel_size)

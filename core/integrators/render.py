@@ -224,13 +224,44 @@ def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_
                            batch_spp=batch_spp, checkpoint=checkpoint)
     say = status or (lambda text: None)
     n_threads = thread_count(threads)
-    # a cold cache: a second process compiles part of the kernel's helpers meanwhile
-    helper = warmup.start()
+    held = [False]
+    if not kernels_compiled():  # a cold start: one compile at a time in this process
+        if not warmup.hold_compile(say, should_cancel):  # cancelled while another thread compiled
+            film = start_film(scene, resume, spectral_bins)
+            return film, RenderStats(film.spp, 0.0, 0.0, True, 0.0, 0.0, "cancelled", relative_error(film))
+        held[0] = True
+
+    def release():
+        if held[0]:
+            held[0] = False
+            warmup.release_compile()
+
     try:
-        return _render(scene, n_threads, say, helper, progress, should_cancel, on_pass, spectral_bins, resume,
-                       measure, checkpoint)
+        if kernels_compiled():  # compiled by the thread this one waited for
+            release()
+        # a cold cache: a second process compiles part of the kernel's helpers meanwhile
+        helper = warmup.start()
+        try:
+            return _render(scene, n_threads, say, helper, progress, should_cancel, on_pass, spectral_bins, resume,
+                           measure, checkpoint, release)
+        finally:
+            warmup.finish(helper)
     finally:
-        warmup.finish(helper)
+        release()
+
+
+def warm_up(status=None, should_cancel=None):
+    """Compile (or load from numba's cache) the kernels a render of the Cornell box needs (the
+    BVH builder, the path kernel and its helpers), by rendering a tiny one: what the add-on
+    runs in the background when it is enabled, so the first F12 finds them loaded. A render
+    started meanwhile in this process waits for it (``jit.COMPILE_LOCK``). Returns False when
+    they were loaded already, True otherwise."""
+    if kernels_compiled():
+        return False
+    from ..scene.builtin import cornell_box
+
+    render(cornell_box(8, 8, spp=1, max_depth=2), threads=1, status=status, should_cancel=should_cancel)
+    return True
 
 
 def physical_memory():
@@ -286,7 +317,7 @@ def check_render_inputs(scene, spectral_bins=0, resume=None):
 
 
 def _render(scene, n_threads, say, helper, progress, should_cancel, on_pass, spectral_bins, resume, measure,
-            checkpoint=None):
+            checkpoint=None, release=None):
     t_start = time.perf_counter()
     say("Preparing scene" if helper is None else "Compiling kernels (first run only): preparing scene")
     cold = not kernels_compiled()
@@ -316,6 +347,8 @@ def _render(scene, n_threads, say, helper, progress, should_cancel, on_pass, spe
     finally:
         if gc_was_on:
             gc.enable()
+        if release is not None:  # the kernels are loaded: another render may go on
+            release()
     say("Rendering")
     pool = ThreadPoolExecutor(max_workers=n_threads, thread_name_prefix="spectral-gi") if n_threads > 1 else None
     try:

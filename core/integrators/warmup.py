@@ -146,6 +146,33 @@ def kernel_cached():
     return os.path.exists(index) or bool(glob.glob(os.path.join(os.path.dirname(index), "path.render_rows-*.nbi")))
 
 
+WAIT_MESSAGE = "Waiting for the kernels being compiled in the background"
+
+
+def hold_compile(say=None, should_cancel=None, poll=0.1):
+    """Take ``jit.COMPILE_LOCK`` for a cold start. When another thread of this process holds
+    it (a render or the add-on's background compile is compiling the kernels), say
+    ``WAIT_MESSAGE`` and wait, asking ``should_cancel()`` every ``poll`` seconds. Returns True
+    once held (the caller releases it), False when cancelled while waiting."""
+    from ..jit import COMPILE_LOCK
+
+    if COMPILE_LOCK.acquire(blocking=False):
+        return True
+    if say is not None:
+        say(WAIT_MESSAGE)
+    while True:
+        if should_cancel is not None and should_cancel():
+            return False
+        if COMPILE_LOCK.acquire(timeout=poll):
+            return True
+
+
+def release_compile():
+    from ..jit import COMPILE_LOCK
+
+    COMPILE_LOCK.release()
+
+
 def command():
     """The second process's command line and environment, or None when this interpreter
     cannot start one. Only a Python executable is started (in Blender, sys.executable is

@@ -128,6 +128,26 @@ def _toeplitz_hermitian(first_col):
     return t
 
 
+def solve_toeplitz_e0(first_col):
+    """x with T x = e_0, T the Hermitian positive definite Toeplitz matrix of first column
+    ``first_col`` (``_toeplitz_hermitian``), by Levinson's recursion: the solution of each
+    leading block extended by one row with the error of the last row cancelled by the mirrored
+    (conjugated, reversed) solution. O(m²) in a few small NumPy operations and no LAPACK
+    call: the export fits spectra on Blender's main thread while the render's threads hold
+    the cores, and a LAPACK solve there waited for BLAS threads (25 ms for a 12 × 12 system,
+    against 20 µs)."""
+    r = np.asarray(first_col)
+    m = r.size
+    f = np.zeros(m, dtype=np.result_type(r.dtype, np.float64))
+    f[0] = 1.0 / r[0]
+    for n in range(1, m):
+        eps = np.dot(r[n:0:-1], f[:n])  # the last row of the (n+1) block times (f, 0)
+        mirrored = np.conj(f[n - 1::-1])
+        f[1:n + 1] -= eps * mirrored
+        f[:n + 1] /= 1.0 - abs(eps) ** 2
+    return f
+
+
 def exponential_moments(coeffs):
     """Exponential moments of the bounded signal (Peters et al. 2019, Herglotz transform)."""
     c = np.asarray(coeffs, dtype=np.float64)
@@ -145,10 +165,7 @@ def _bounded_prepare(c):
     a = exponential_moments(c)
     # The positive density behind the exponential moments has moments Re(a_0), a_1, ...
     # (the imaginary part of a_0 is the additive constant of the Carathéodory function).
-    t = _toeplitz_hermitian(np.concatenate([[a[0].real], a[1:]]))
-    e0 = np.zeros(c.size, dtype=np.complex128)
-    e0[0] = 1.0
-    q = np.linalg.solve(t, e0) * (2.0 * np.pi)
+    q = solve_toeplitz_e0(np.concatenate([[a[0].real], a[1:]])) * (2.0 * np.pi)
     return a, q
 
 
@@ -185,10 +202,7 @@ def reconstruct_unbounded(coeffs, wavelengths):
     wl = np.asarray(wavelengths, dtype=np.float64)
     if c[0] <= 0.0:
         return np.zeros(wl.shape)
-    t = _toeplitz_hermitian(c.astype(np.complex128)).real
-    e0 = np.zeros(c.size)
-    e0[0] = 1.0
-    q = np.linalg.solve(t, e0)
+    q = solve_toeplitz_e0(c)
     z = np.exp(-1j * np.multiply.outer(phase(wl), np.arange(c.size)))
     denom = np.abs(z @ q) ** 2
     return q[0] / denom
@@ -258,10 +272,7 @@ def prepare(coeffs, kind):
     if kind == C.SPECTRUM_UNBOUNDED:
         if c[0] <= 0.0:
             return row
-        t = _toeplitz_hermitian(c.astype(np.complex128)).real
-        e0 = np.zeros(m)
-        e0[0] = 1.0
-        row[:m] = np.linalg.solve(t, e0)
+        row[:m] = solve_toeplitz_e0(c)
         return row
     raise ValueError(f"unknown spectrum kind {kind}")
 

@@ -38,6 +38,13 @@ def test_bpy_missing(tmp_path):
 BLEND_EXTRA = """
 if "--bad-light" in sys.argv:  # lux is a sun's unit: the exporter refuses it for an area light
     light.spectral_gi.unit = "LUX"
+if "--sensors" in sys.argv:  # the floor measures the light of a 100 cd point 3 m above it
+    bpy.data.objects["Floor"].spectral_gi_sensor = True
+    scene.spectral_gi.use_sensors = True
+    light.type = "POINT"
+    light.shadow_soft_size = 0.0
+    light.spectral_gi.unit = "CANDELA"
+    light.spectral_gi.value = 100.0
 scene.render.engine = "CYCLES"  # render-blend renders with Spectral GI whatever the file says
 scene.view_layers[0].spectral_gi.use_pass_xyz = True  # besides Luminance, on by default
 scene.view_layers[0].spectral_gi.use_pass_depth = True
@@ -130,3 +137,31 @@ def test_render_blend_failures_are_one_line(tmp_path):
     proc = _cli(bad, "--out", tmp_path / "bad.exr", "--spp", "1")
     _one_line_error(proc, "bad_light.blend", "Key")
     assert not (tmp_path / "bad.exr").exists()
+
+
+@pytest.mark.slow
+@pytest.mark.blender
+def test_render_blend_json_holds_the_sensor_statistics(tmp_path):
+    """With Sensors on, the JSON report gives the sensor statistics as fields: the sensor
+    objects and, over the pixels fully on a sensor, Em, Emin, Emax (lux) and U0. The floor is
+    lit by a 100 cd point light 3 m above it and nothing else (a plane does not light itself),
+    so no point of it gets more than I / h² = 11.1 lx, and the pixel nearest the foot of the
+    light close to that; without the option the field is null."""
+    pytest.importorskip("bpy")
+    blend = _make_blend(tmp_path / "sensors.blend", "--sensors")
+    out, report = tmp_path / "render.exr", tmp_path / "report.json"
+    proc = _cli(blend, "--out", out, "--json", report)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    doc = json.loads(report.read_text())
+    sensors = doc["sensors"]
+    assert sensors["objects"] == ["Floor"] and sensors["count"] == 1 and sensors["unit"] == "lx"
+    assert 0 < sensors["pixels"] <= 12 * 8
+    peak = 100.0 / 3.0 ** 2
+    assert 0.8 * peak < sensors["Emax"] <= peak * (1 + 1e-6)
+    assert 0.0 < sensors["Emin"] <= sensors["Em"] <= sensors["Emax"]
+    assert sensors["U0"] == pytest.approx(sensors["Emin"] / sensors["Em"], rel=1e-9)
+    assert f"Em {sensors['Em']:.4g} lx" in doc["engine_message"]  # the same figures as the text line
+    plain = _make_blend(tmp_path / "plain.blend")
+    proc = _cli(plain, "--out", tmp_path / "plain.exr", "--json", tmp_path / "plain.json")
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert json.loads((tmp_path / "plain.json").read_text())["sensors"] is None

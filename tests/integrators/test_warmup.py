@@ -5,6 +5,7 @@ import subprocess
 import sys
 import time
 
+import numpy as np
 import pytest
 
 from spectral_gi import core
@@ -144,3 +145,87 @@ def test_a_copy_of_the_package_elsewhere_loads_the_kernels_this_one_compiled(ren
     assert there["cache"] == str(jit.CACHE_DIR)
     assert there["cached_before"] and there["hits"] == 1 and there["misses"] == 0
     assert there["sum"] == float(here.sums.sum())
+
+
+def _holding_the_compile_lock(release_after=None):
+    """A thread that holds jit.COMPILE_LOCK (as a compile in progress does) until the returned
+    event is set, or for ``release_after`` seconds."""
+    import threading
+
+    from spectral_gi.core import jit
+
+    held, done = threading.Event(), threading.Event()
+
+    def hold():
+        with jit.COMPILE_LOCK:
+            held.set()
+            done.wait(release_after)
+
+    t = threading.Thread(target=hold, daemon=True)
+    t.start()
+    assert held.wait(10)
+    return done, t
+
+
+def test_a_cold_render_waits_for_another_threads_compile_and_can_be_cancelled(rendered, monkeypatch):
+    """A render that finds the kernels not loaded while another thread compiles them (the
+    add-on's background compile) says so and waits; cancelled meanwhile, it returns at once
+    with no samples and compiles nothing."""
+    from spectral_gi.core.integrators import render as render_module
+
+    monkeypatch.setattr(render_module, "kernels_compiled", lambda: False)
+    monkeypatch.setattr(warmup, "start", lambda: pytest.fail("a second compile process was started"))
+    done, t = _holding_the_compile_lock()
+    said, asked = [], []
+    t0 = time.perf_counter()
+    try:
+        film, st = core.render(core.cornell_box(4, 4, spp=2), threads=1, status=said.append,
+                               should_cancel=lambda: asked.append(1) or len(asked) > 3)
+    finally:
+        done.set()
+        t.join(10)
+    assert said == [warmup.WAIT_MESSAGE]
+    assert st.cancelled and st.spp == 0 and film.spp == 0 and float(film.sums.sum()) == 0.0
+    assert time.perf_counter() - t0 < 5.0  # four polls, 0.1 s apart
+
+
+def test_a_cold_render_goes_on_when_the_other_compile_ends(rendered, monkeypatch):
+    """Once the compiling thread lets go, the waiting render takes the kernels it loaded and
+    renders the same image as one that never waited."""
+    from spectral_gi.core.integrators import render as render_module
+
+    scene = core.cornell_box(4, 4, spp=2)
+    want = core.render(scene, threads=1)[0]
+    compiled = iter([False, True])  # cold when it starts; loaded once the lock is free
+    monkeypatch.setattr(render_module, "kernels_compiled", lambda: next(compiled, True))
+    done, t = _holding_the_compile_lock(release_after=0.5)
+    said = []
+    t0 = time.perf_counter()
+    film, st = core.render(scene, threads=1, status=said.append)
+    t.join(10)
+    assert time.perf_counter() - t0 >= 0.45
+    assert said[0] == warmup.WAIT_MESSAGE and "Compiling kernels (first run only)" not in said
+    assert st.spp == 2 and not st.cancelled
+    assert np.array_equal(film.sums, want.sums)
+    assert jit_lock_free()
+
+
+def jit_lock_free():
+    from spectral_gi.core import jit
+
+    if jit.COMPILE_LOCK.acquire(blocking=False):
+        jit.COMPILE_LOCK.release()
+        return True
+    return False
+
+
+def test_warm_up_loads_the_cornell_box_kernels_once(rendered):
+    """core.warm_up (the add-on's background compile) has nothing to do once the kernels are
+    loaded, and a render after it compiles nothing more."""
+    from spectral_gi.core.integrators.path import render_rows
+
+    assert core.warm_up() is False
+    n = len(render_rows.signatures)
+    core.render(core.cornell_box(5, 3, spp=1), threads=1)
+    assert len(render_rows.signatures) == n
+    assert jit_lock_free()

@@ -111,3 +111,24 @@ def test_bad_samples_raise():
         uplift.reflectance_from_samples([400, 500], [0.1, 1.5])
     with pytest.raises(ValueError):
         uplift.reflectance_from_rgb([0.1, np.inf, 0.2])
+
+
+@pytest.mark.parametrize("m", [1, 2, 5, 12, 16])
+def test_levinson_solves_the_hermitian_toeplitz_system(m):
+    """solve_toeplitz_e0 (Levinson's recursion) against a dense LAPACK solve, for the moment
+    matrices of random positive densities on the circle: complex ones (a density that is not
+    even, as behind the bounded MESE's exponential moments) and real ones (Burg's estimate)."""
+    rng = np.random.default_rng(m)
+    phi = np.linspace(-np.pi, np.pi, 512, endpoint=False)
+    for _ in range(20):
+        k = np.arange(6)
+        g = np.exp(rng.normal(size=6) @ np.cos(np.outer(k, phi)) + rng.normal(size=6) @ np.sin(np.outer(k, phi)))
+        r = np.array([np.mean(g * np.exp(-1j * j * phi)) for j in range(m)])
+        for col in (r, r.real):
+            t = M._toeplitz_hermitian(col.astype(np.complex128))
+            e0 = np.zeros(m)
+            e0[0] = 1.0
+            want = np.linalg.solve(t if np.iscomplexobj(col) else t.real, e0)
+            got = M.solve_toeplitz_e0(col)
+            assert got.dtype == want.dtype
+            np.testing.assert_allclose(got, want, rtol=1e-10, atol=1e-12 * np.abs(want).max())

@@ -36,8 +36,13 @@ def _estimate(case, **options):
     return lux, se
 
 
+def _slow_if_long(name):
+    """The cubes of ρ ≥ 0.8 take 10 to 40 s at their relative standard error."""
+    return pytest.param(name, marks=pytest.mark.slow) if CASES[name].extra.get("rho", 0.0) >= 0.8 else name
+
+
 @pytest.mark.statistical
-@pytest.mark.parametrize("name", sorted(CASES))
+@pytest.mark.parametrize("name", [_slow_if_long(n) for n in sorted(CASES)])
 def test_cie171_case_matches_its_closed_form(name):
     case = CASES[name]
     lux, se = _estimate(case)
@@ -60,7 +65,8 @@ def test_cie171_case_matches_its_closed_form(name):
         indirect = float(w @ (lux - case.expected_direct))
         indirect_se = float(np.sqrt((w ** 2) @ (se ** 2)))
         exp = case.expected_mean_indirect
-        assert abs(indirect - exp) <= EXACT * exp, (indirect, exp, indirect_se)
+        allowed = EXACT * exp if exp > 0.0 else 5.0 * indirect_se  # ρ = 0: nothing to be 1 % of
+        assert abs(indirect - exp) <= allowed, (indirect, exp, indirect_se)
 
 
 @pytest.mark.slow

@@ -56,6 +56,7 @@ by drawing the horizontal normal's azimuth per sample (dimension 6).
 """
 from __future__ import annotations
 
+import itertools
 import math
 import threading
 from concurrent.futures import ThreadPoolExecutor
@@ -383,9 +384,10 @@ TASK_SAMPLES = 2048  # samples per task handed to a thread, at the least (up to 
 
 
 class _PoolLease:
-    """A pool of worker threads lent to one measurement: ``submit`` as an executor's, and
-    ``shutdown`` hands the threads back for the next measurement instead of stopping them
-    (starting and joining threads costs more than a small measurement's samples)."""
+    """The n_threads − 1 worker threads that join the calling thread in one measurement:
+    ``submit`` as an executor's, and ``shutdown`` hands the threads back for the next
+    measurement instead of stopping them (starting and joining threads costs more than a
+    small measurement's samples)."""
 
     _idle = {}  # thread count → executors not lent
     _lock = threading.Lock()
@@ -396,7 +398,7 @@ class _PoolLease:
             idle = self._idle.setdefault(n_threads, [])
             self._pool = idle.pop() if idle else None
         if self._pool is None:
-            self._pool = ThreadPoolExecutor(max_workers=n_threads, thread_name_prefix="spectral-gi-lux")
+            self._pool = ThreadPoolExecutor(max_workers=n_threads - 1, thread_name_prefix="spectral-gi-lux")
 
     def submit(self, fn, *args):
         return self._pool.submit(fn, *args)
@@ -437,11 +439,17 @@ def _run_batch(prep, st, pts, mode, vcmf, idx, span, pool, n_threads, chunk):
 
     if pool is None or idx.size * nb <= SERIAL_SAMPLES or tasks == 1:  # too little work to hand to threads
         run(0, jobs.shape[0])
-    else:  # the calling thread takes the first task
+    else:  # the calling thread and the pool's n_threads − 1 take the tasks in turn
         cuts = np.unique(np.linspace(0, jobs.shape[0], max(tasks, 2) + 1).astype(np.int64))
-        futures = [pool.submit(run, a, b) for a, b in zip(cuts[1:-1], cuts[2:])]
+        turn = itertools.count()  # next() is atomic: each task is taken once
+
+        def take():
+            while (k := next(turn)) + 1 < cuts.size:
+                run(cuts[k], cuts[k + 1])
+
+        futures = [pool.submit(take) for _ in range(n_threads - 1)]
         try:
-            run(cuts[0], cuts[1])
+            take()
         finally:
             for f in futures:
                 f.result()

@@ -527,7 +527,8 @@ def _lux_run(args, scene, bar, done, t0, farm):
     import numpy as np
 
     from .core.integrators.illuminance import illuminance
-    from .core.lux import calculate_pts_file
+    from .core.integrators.unlit import unlit_points
+    from .core.lux import calculate_pts_file, read_pts
 
     def progress(samples, total):
         bar(samples, total, samples / max(time.perf_counter() - t0, 1e-9))
@@ -573,13 +574,26 @@ def _lux_run(args, scene, bar, done, t0, farm):
     rel = np.where(lux > 0, se / np.where(lux > 0, lux, 1.0), 0.0)
     sys.stderr.write(f"{lux.size} points, {done['spp']} samples in {time.perf_counter() - t0:.1f} s; "
                      f"largest relative standard error {rel.max():.3g}; wrote {out}\n")
+    points, normals = read_pts(args.sensors)
+    _warn_unlit(unlit_points(scene, points, normals, lux, se), "points (0-based, in file order)")
     return EXIT_OK
+
+
+UNLIT_SHOWN = 10  # point indices named in the warning line
+
+
+def _warn_unlit(unlit, what):
+    """One warning line on stderr naming the points outside the lit geometry, if any."""
+    line = unlit.warning(UNLIT_SHOWN, what)
+    if line:
+        sys.stderr.write(f"warning: {line}\n")
 
 
 def _lux_surfaces(scene, estimate, done, out_dir, project, t0):
     """Every calculation surface of ``scene``: its CSV, JSON summary and (with matplotlib) report page."""
     import datetime
 
+    from .core.integrators.unlit import unlit_points
     from .core.lux import calculate_surface, render_report, statistics, write_summary_json, write_surface_csv
     from .core.lux.schedule import luminaire_schedule
     from .core.scene import SceneError
@@ -594,7 +608,9 @@ def _lux_surfaces(scene, estimate, done, out_dir, project, t0):
         samples = max(1, done["spp"] // s.n_points)
         base = out_dir / s.name
         write_surface_csv(base.with_suffix(".csv"), s, lux, se)
-        write_summary_json(base.with_suffix(".json"), s, lux, se, samples, schedule, project, date)
+        unlit = unlit_points(scene, s.points, s.normals, lux, se)
+        write_summary_json(base.with_suffix(".json"), s, lux, se, samples, schedule, project, date,
+                           unlit=unlit.to_dict())
         st = statistics(s, lux, se, samples)
         page = ""
         try:
@@ -606,6 +622,7 @@ def _lux_surfaces(scene, estimate, done, out_dir, project, t0):
         sys.stderr.write(f"{s.name}: {s.n_points} points, Ē {st.mean:.1f} lx, Emin {st.minimum:.1f} lx, "
                          f"Emax {st.maximum:.1f} lx, U0 {st.u0 if st.u0 is None else round(st.u0, 3)}; "
                          f"wrote {base}.csv, .json{page}\n")
+        _warn_unlit(unlit, f"points of {s.name} (0-based, in its CSV's order)")
     sys.stderr.write(f"{len(scene.calculation_surfaces)} surfaces in {time.perf_counter() - t0:.1f} s\n")
     return EXIT_OK
 

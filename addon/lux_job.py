@@ -63,6 +63,7 @@ class LuxJob:
         self.threads = int(threads) if threads else None
         self.luminaires = list(luminaires)
         self.results = {}  # task name → (lux (N,), std_error (N,), samples used (N,))
+        self.unlit = {}  # task name → core.unlit_points(...) of its result
         self.cancel_requested = False
         self.error = None
         self.traceback = None
@@ -84,7 +85,7 @@ class LuxJob:
     def _run(self):
         t0 = time.monotonic()
         try:
-            from ..core import point_illuminance
+            from ..core import point_illuminance, unlit_points
 
             offset = 0
             for task in self.tasks:
@@ -105,6 +106,7 @@ class LuxJob:
                 if self.cancel_requested:
                     break  # a partial result is not a result
                 self.results[task.name] = (e, se, used)
+                self.unlit[task.name] = unlit_points(self.scene, s.points, s.normals, e, se)
                 offset += task.samples
         except Exception as exc:  # reported by the operator on the main thread
             self.error = f"{type(exc).__name__}: {exc}"

@@ -83,7 +83,7 @@ __all__ = [
     "Profile", "read_profile", "PhotometricError", "photometric_presets",
     "render_illuminance", "illuminance_stats", "illuminance_image", "has_sensors",
     "point_illuminance", "point_luminance", "vertical_illuminance", "cylindrical_illuminance",
-    "semicylindrical_illuminance",
+    "semicylindrical_illuminance", "unlit_points",
     "radiosity", "RadiositySolution", "radiosity_illuminance", "form_factor_point_polygon",
     "form_factor_polygon_polygon", "element_form_factors", "differential_form_factor", "radiosity_lux_integrator",
 ]
@@ -100,4 +100,8 @@ def __getattr__(name):
         from .integrators import illuminance as point_measures
 
         return getattr(point_measures, _POINT_MEASURES[name])
+    if name == "unlit_points":  # sensor points outside the lit geometry (core/integrators/unlit.py)
+        from .integrators.unlit import unlit_points
+
+        return unlit_points
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

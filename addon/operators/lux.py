@@ -115,14 +115,34 @@ def _material():
     return mat
 
 
-def write_colours(obj, surface, lux_m):
+def overlay_options(s, lux_m=None):
+    """The false-colour scale of a surface's settings ``s`` as core's keywords (vmin, vmax, steps, scale):
+    the fixed range, or (automatic) the range core finds in ``lux_m``. LuxInputError for a fixed range
+    core cannot draw (minimum not below maximum; a logarithmic scale from 0)."""
+    from ...core import lux
+
+    scale = "log" if s.scale_log else "linear"
+    if s.scale_auto:
+        vmin, vmax = (None, None) if lux_m is None else lux.auto_range(lux_m, scale)
+    else:
+        vmin, vmax = float(s.scale_fixed_min), float(s.scale_fixed_max)
+        if not vmax > vmin:
+            raise LuxInputError(f"the fixed false-colour range needs Range Maximum ({vmax:g} lx) above Range "
+                                f"Minimum ({vmin:g} lx)")
+        if scale == "log" and not vmin > 0.0:
+            raise LuxInputError("a logarithmic false-colour scale needs Range Minimum above 0 lx")
+    return {"vmin": vmin, "vmax": vmax, "steps": int(s.scale_steps), "scale": scale}
+
+
+def write_colours(obj, surface, lux_m, options=None):
     """The false colours on the result mesh: grid → a new grid object (face corners), vertices → point
-    domain, faces → face corners of each triangle. Returns the object carrying them."""
+    domain, faces → face corners of each triangle, on the scale ``options`` (:func:`overlay_options`;
+    None: automatic, linear, 8 steps). Returns the object carrying them."""
     import numpy as np
 
     from ...core import lux
 
-    rgba = lux.colour_attribute(surface, lux_m, linear=True)
+    rgba = lux.colour_attribute(surface, lux_m, linear=True, **(options or {}))
     if surface.is_grid:
         target = _grid_object(obj, surface)
         corner = np.repeat(rgba, 4, axis=0)
@@ -163,9 +183,10 @@ PLAN_SIZE = 512  # px, the longer side of the false-colour plan image
 TIMER_STEP = 0.2  # seconds between UI updates while calculating
 
 
-def store_result(obj, surface, lux0, se, used, luminaires=()):
+def store_result(obj, surface, lux0, se, used, luminaires=(), unlit=None):
     """The statistics into obj.spectral_gi_lux, the surface and its values into an ID property (both saved
-    with the .blend), the false colours on the mesh and the plan image. Returns the statistics."""
+    with the .blend), the false colours on the mesh and the plan image. ``unlit``: the dict of
+    ``core.unlit_points(...).to_dict()`` (kept for the report). Returns the statistics."""
     from ...core import lux
 
     samples = int(used.max())
@@ -181,17 +202,34 @@ def store_result(obj, surface, lux0, se, used, luminaires=()):
     s.max_rel_error = st.max_rel_std_error or 0.0
     s.mean_rel_error = st.mean_rel_std_error or 0.0
     s.area = st.area
-    lux_m = lux0 * surface.maintenance_factor
-    vmin, vmax = lux.auto_range(lux_m)
-    s.scale_min, s.scale_max = vmin, vmax
+    s.unlit_points = 0 if unlit is None else int(unlit["count"])
     obj[RESULT_KEY] = {"surface": json.dumps(surface.to_dict()), "lux": [float(x) for x in lux0],
                        "std_error": [float(x) for x in se], "samples": samples,
-                       "luminaires": json.dumps(list(luminaires))}
-    target = write_colours(obj, surface, lux_m)
-    s.result_object = target.name
-    s.plan_image = plan_image(obj, surface, lux_m)
+                       "luminaires": json.dumps(list(luminaires)), "unlit": json.dumps(unlit)}
+    apply_overlay(obj, surface, lux0)
     s.valid = True
     return st
+
+
+def apply_overlay(obj, surface, lux0):
+    """The false colours (viewport colour attribute, plan image) of initial values ``lux0`` on the scale of
+    the object's settings; the range used into scale_min/scale_max."""
+    s = obj.spectral_gi_lux
+    lux_m = lux0 * surface.maintenance_factor
+    options = overlay_options(s, lux_m)
+    s.scale_min, s.scale_max = options["vmin"], options["vmax"]
+    target = write_colours(obj, surface, lux_m, options)
+    s.result_object = target.name
+    s.plan_image = plan_image(obj, surface, lux_m, options)
+
+
+def saved_unlit(obj):
+    """The dict of the points outside the lit geometry stored with the object's last result, or None."""
+    d = obj.get(RESULT_KEY)
+    try:
+        return None if d is None or "unlit" not in d else json.loads(d["unlit"])
+    except (TypeError, ValueError):
+        return None
 
 
 def saved_result(obj):
@@ -219,13 +257,14 @@ def _replace_image(name, width, height):
     return bpy.data.images.new(name, width, height, alpha=True)
 
 
-def plan_image(obj, surface, lux_m):
-    """The false-colour plan (maintained lx) as the packed image "<object> lux plan"; returns it."""
+def plan_image(obj, surface, lux_m, options=None):
+    """The false-colour plan (maintained lx) as the packed image "<object> lux plan", on the scale
+    ``options`` (:func:`overlay_options`; None: automatic); returns it."""
     import numpy as np
 
     from ...core import lux
 
-    rgba = lux.plan_image(surface, lux_m, size=PLAN_SIZE)
+    rgba = lux.plan_image(surface, lux_m, size=PLAN_SIZE, **(options or {}))
     h, w = rgba.shape[:2]
     img = _replace_image(f"{obj.name} lux plan", w, h)
     img.pixels.foreach_set(np.ascontiguousarray(rgba[::-1], np.float32).ravel())  # Blender: rows bottom-up
@@ -282,7 +321,7 @@ def write_report(context, obj, folder):
     os.makedirs(folder, exist_ok=True)
     lux.write_surface_csv(stem + ".csv", surface, e, se)
     lux.write_summary_json(stem + ".json", surface, e, se, samples=spp, luminaires=luminaires, project=project,
-                           date=date)
+                           date=date, unlit=saved_unlit(obj))
     written = [stem + ".csv", stem + ".json"]
     s = obj.spectral_gi_lux
     if s.plan_image is not None:
@@ -290,8 +329,9 @@ def write_report(context, obj, folder):
         written.append(stem + "_plan.png")
     img = None
     if has_matplotlib():
+        options = overlay_options(s, e * surface.maintenance_factor)
         lux.render_report(surface, e, se, samples=spp, luminaires=luminaires, project=project, date=date,
-                          png_path=stem + ".png", pdf_path=stem + ".pdf")
+                          png_path=stem + ".png", pdf_path=stem + ".pdf", **options)
         written += [stem + ".png", stem + ".pdf"]
         old = bpy.data.images.get(f"{obj.name} lux report")
         if old is not None:
@@ -323,6 +363,10 @@ def prepare_job(context, objects):
     tasks = []
     for o in objects:
         s = o.spectral_gi_lux
+        try:
+            overlay_options(s)  # a fixed range that cannot be drawn fails before the calculation
+        except LuxInputError as exc:
+            raise LuxInputError(f"{o.name!r}: {exc}") from None
         tasks.append(lux_job.SurfaceTask(o.name, build_surface(o), s.samples, s.rel_error or None))
     exported = export_scene(context.evaluated_depsgraph_get(), context.scene)
     settings = getattr(context.scene, "spectral_gi", None)
@@ -340,9 +384,25 @@ def store_job(job):
         if obj is None or task.name not in job.results:
             continue
         e, se, used = job.results[task.name]
-        st = store_result(obj, task.surface, e, se, used, job.luminaires)
+        unlit = job.unlit.get(task.name)
+        st = store_result(obj, task.surface, e, se, used, job.luminaires,
+                          None if unlit is None else unlit.to_dict())
         u0 = "–" if st.u0 is None else f"{st.u0:.2f}"
         out.append(f"{obj.name}: Ē {st.mean:.4g} lx, Emin {st.minimum:.4g} lx, U0 {u0} ({st.n_points} points)")
+    return out
+
+
+UNLIT_SHOWN = 10  # point indices named in a warning
+
+
+def unlit_warnings(job):
+    """One warning line per surface of a finished job with points outside the lit geometry."""
+    out = []
+    for task in job.tasks:
+        unlit = job.unlit.get(task.name)
+        line = None if unlit is None else unlit.warning(UNLIT_SHOWN, f"points of {task.name!r}")
+        if line:
+            out.append(line)
     return out
 
 
@@ -419,6 +479,8 @@ class _LuxJobOperator:
             return {"CANCELLED"}
         for line in lines:
             self.report({"INFO"}, "Spectral GI: " + line)
+        for line in unlit_warnings(job):
+            self.report({"WARNING"}, "Spectral GI: " + line)
         lux_job.STATE.message = job.summary()
         _redraw(context)
         return {"FINISHED"}
@@ -547,10 +609,41 @@ def _signed_area(xy):
     return 0.5 * float((x * np.roll(y, -1) - np.roll(x, -1) * y).sum())
 
 
+def _clean_loop(xy):
+    """A loop (K, 2) counter-clockwise, its vertices on straight edges dropped."""
+    import numpy as np
+
+    if _signed_area(xy) < 0.0:
+        xy = xy[::-1]
+    keep = []
+    for k in range(len(xy)):  # drop vertices on a straight edge
+        a, b, c = xy[k - 1], xy[k], xy[(k + 1) % len(xy)]
+        cross = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0])
+        if abs(cross) > 1e-9 * max(np.hypot(*(b - a)) * np.hypot(*(c - b)), 1e-300):
+            keep.append(k)
+    return xy[keep]
+
+
+def _inside_loop(p, xy):
+    """Even-odd rule: is the 2-D point p inside the loop xy (K, 2)?"""
+    inside = False
+    for (ax, ay), (bx, by) in zip(xy, list(xy[1:]) + [xy[0]]):
+        if (ay > p[1]) != (by > p[1]) and p[0] < ax + (p[1] - ay) * (bx - ax) / (by - ay):
+            inside = not inside
+    return inside
+
+
 def floor_polygon(obj):
     """The room's floor outline (K, 3) in metres, counter-clockwise seen from above: the outer boundary of
     the mesh's horizontal faces at its lowest level (an L-shaped room gives its L), collinear vertices
     dropped."""
+    return floor_outline(obj)[0]
+
+
+def floor_outline(obj):
+    """(outline (K, 3), holes [(K_i, 3), ...]) of the room's floor in metres, each counter-clockwise seen
+    from above, collinear vertices dropped: the outer boundary of the mesh's horizontal faces at its
+    lowest level and the boundaries inside it (a courtyard, a column standing in a hole of the floor)."""
     import numpy as np
 
     me = obj.data
@@ -573,29 +666,47 @@ def floor_polygon(obj):
         raise LuxInputError(f"{obj.name!r} has no floor: no horizontal faces at its lowest point "
                             f"(z = {zmin:.3g} m)")
     loop = max(loops, key=lambda lp: abs(_signed_area(pos[lp, :2])))
-    xy = pos[loop, :2]
-    if _signed_area(xy) < 0.0:
-        xy = xy[::-1]
-    keep = []
-    for k in range(len(xy)):  # drop vertices on a straight edge
-        a, b, c = xy[k - 1], xy[k], xy[(k + 1) % len(xy)]
-        cross = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0])
-        if abs(cross) > 1e-9 * max(np.hypot(*(b - a)) * np.hypot(*(c - b)), 1e-300):
-            keep.append(k)
-    xy = xy[keep]
+    xy = _clean_loop(pos[loop, :2])
     if len(xy) < 3 or not abs(_signed_area(xy)) > 0.0:
         raise LuxInputError(f"{obj.name!r}: its floor has no area")
-    return np.concatenate([xy, np.full((len(xy), 1), zmin)], axis=1)
+    holes = []
+    for lp in loops:
+        if lp is loop or not all(_inside_loop(q, xy) for q in pos[lp, :2]):
+            continue  # another floor outside this one
+        h = _clean_loop(pos[lp, :2])
+        if len(h) >= 3 and abs(_signed_area(h)) > 0.0:
+            holes.append(np.concatenate([h, np.full((len(h), 1), zmin)], axis=1))
+    return np.concatenate([xy, np.full((len(xy), 1), zmin)], axis=1), holes
+
+
+def _workplane_faces(floor, holes):
+    """Faces over the outline ``floor`` less its ``holes`` (loops of 2-D or 3-D points, counter-clockwise
+    from above): the outline as one face without holes, else Blender's polygon fill of all the loops,
+    every triangle wound counter-clockwise from above. Indices into the loops' vertices in order."""
+    if not holes:
+        return [tuple(range(len(floor)))]
+    from mathutils.geometry import tessellate_polygon
+
+    loops = [[(float(p[0]), float(p[1]), 0.0) for p in lp] for lp in [floor, *holes]]
+    flat = [p for lp in loops for p in lp]
+    faces = []
+    for a, b, c in tessellate_polygon(loops):
+        (ax, ay, _), (bx, by, _), (cx, cy, _) = flat[a], flat[b], flat[c]
+        up = (bx - ax) * (cy - ay) - (cx - ax) * (by - ay) > 0.0
+        faces.append((a, b, c) if up else (a, c, b))
+    return faces
 
 
 def add_workplane(context, room, height, band):
     """A work plane mesh over ``room``'s floor outline, ``height`` m above it, marked as a grid calculation
-    surface (a work plane) with ``band`` m left out at the walls. Returns the new object."""
-    floor = floor_polygon(room)
+    surface (a work plane) with ``band`` m left out at the walls and, the same, around holes in the floor
+    (EN 12464-1 leaves the band at columns and other obstacles to the designer: set the surface's Band).
+    Returns the new object."""
+    floor, holes = floor_outline(room)
     scale = context.scene.unit_settings.scale_length or 1.0
-    verts = [tuple(float(c) / scale for c in (p[0], p[1], p[2] + height)) for p in floor]
+    verts = [tuple(float(c) / scale for c in (p[0], p[1], p[2] + height)) for lp in [floor, *holes] for p in lp]
     me = bpy.data.meshes.new("Work Plane")
-    me.from_pydata(verts, [], [tuple(range(len(verts)))])
+    me.from_pydata(verts, [], _workplane_faces(floor, holes))
     me.update()
     wp = bpy.data.objects.new("Work Plane", me)
     wp.hide_render = True  # a calculation surface does not block light
@@ -654,6 +765,32 @@ class SPECTRALGI_OT_lux_export_report(bpy.types.Operator):
         _show(context, img or obj.spectral_gi_lux.plan_image)
         note = "" if has_matplotlib() else f" ({NO_MATPLOTLIB})"
         self.report({"INFO"}, f"Spectral GI: wrote {', '.join(os.path.basename(p) for p in written)}{note}")
+        return {"FINISHED"}
+
+
+class SPECTRALGI_OT_lux_recolour(bpy.types.Operator):
+    """Draw the active surface's last result again on its false-colour scale (range, logarithmic, steps):
+    the viewport colours and the plan image, without calculating"""
+
+    bl_idname = "spectral_gi.lux_recolour"
+    bl_label = "Update False Colours"
+    bl_options = {"REGISTER", "UNDO"}
+
+    def execute(self, context):
+        obj = context.active_object
+        try:
+            res = None if obj is None else saved_result(obj)
+            if res is None:
+                raise LuxInputError("calculate the illuminance of the active surface first")
+            apply_overlay(obj, res[0], res[1])
+        except LuxInputError as exc:
+            self.report({"ERROR"}, f"Spectral GI: {exc}")
+            return {"CANCELLED"}
+        s = obj.spectral_gi_lux
+        _show(context, s.plan_image)
+        _redraw(context)
+        self.report({"INFO"}, f"Spectral GI: false colours {s.scale_min:.4g} – {s.scale_max:.4g} lx "
+                              f"({'log' if s.scale_log else 'linear'}, {s.scale_steps or 'continuous'} steps)")
         return {"FINISHED"}
 
 
@@ -717,4 +854,4 @@ class SPECTRALGI_OT_lux_show_image(bpy.types.Operator):
 
 
 classes = (SPECTRALGI_OT_lux_calculate, SPECTRALGI_OT_lux_add_workplane, SPECTRALGI_OT_lux_export_report,
-           SPECTRALGI_OT_lux_report, SPECTRALGI_OT_lux_show_image)
+           SPECTRALGI_OT_lux_recolour, SPECTRALGI_OT_lux_report, SPECTRALGI_OT_lux_show_image)

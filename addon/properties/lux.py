@@ -37,6 +37,23 @@ class SpectralGILuxSurface(bpy.types.PropertyGroup):
     workplane: BoolProperty(name="Work Plane", default=False,
                             description="Report this grid as a work plane (EN 12464-1); set by Add Work Plane "
                                         "(on/off, no unit)")
+    # the false-colour overlay (viewport colours, plan, report page)
+    scale_auto: BoolProperty(name="Automatic Range", default=True,
+                             description="Scale the false colours from the lowest to the highest value of the "
+                                         "result (on/off, no unit); off: the fixed range below")
+    scale_fixed_min: FloatProperty(name="Range Minimum", default=0.0, min=0.0, soft_max=10000.0,
+                                   description="Lowest value of a fixed false-colour range, in lx (above 0 for a "
+                                               "logarithmic scale)")
+    scale_fixed_max: FloatProperty(name="Range Maximum", default=1000.0, min=0.0, soft_max=10000.0,
+                                   description="Highest value of a fixed false-colour range, in lx")
+    scale_log: BoolProperty(name="Logarithmic", default=False,
+                            description="Space the false colours logarithmically in lx (on/off, no unit)")
+    scale_steps: IntProperty(name="Steps", default=8, min=0, max=64,
+                             description="Number of colour bands of the false-colour scale (a count; 0: "
+                                         "continuous)")
+    unlit_points: IntProperty(name="Points Outside", default=0,
+                              description="Points of the last result that look outside the lit geometry: read "
+                                          "0 lx with no light reaching them, or inside a solid (a count)")
     # the last result
     valid: BoolProperty(name="Result Available", default=False,
                         description="True once the illuminance was calculated (no unit)")

@@ -28,8 +28,25 @@ def result_rows(s):
     rows += [("Points", str(s.n_points)), ("Area", f"{s.area:.2f} m²"), ("Band", f"{s.band_used:.2f} m"),
              ("MF", f"{s.mf_used:.3f}"), ("Samples per point", str(s.samples_used)),
              ("Std. error max / mean", f"{100 * s.max_rel_error:.2f} / {100 * s.mean_rel_error:.2f} %"),
-             ("Colour scale", f"{s.scale_min:.4g} – {s.scale_max:.4g} lx, 8 steps")]
+             ("Colour scale", f"{s.scale_min:.4g} – {s.scale_max:.4g} lx, {'log' if s.scale_log else 'linear'}, "
+                              f"{s.scale_steps or 'continuous'}{' steps' if s.scale_steps else ''}")]
+    if s.unlit_points:
+        rows.append(("Points outside", f"{s.unlit_points} (see the report's unlit_points)"))
     return rows
+
+
+def _overlay(layout, s):
+    """The false-colour scale's settings."""
+    col = layout.column()
+    col.use_property_split = True
+    col.use_property_decorate = False
+    col.prop(s, "scale_auto")
+    sub = col.column(align=True)
+    sub.active = not s.scale_auto
+    sub.prop(s, "scale_fixed_min")
+    sub.prop(s, "scale_fixed_max")
+    col.prop(s, "scale_log")
+    col.prop(s, "scale_steps")
 
 
 def _images(layout, s):
@@ -72,6 +89,7 @@ class SPECTRALGI_PT_lux(bpy.types.Panel):
         sub.prop(s, "maintenance_factor")
         sub.prop(s, "samples")
         sub.prop(s, "rel_error")
+        _overlay(sub, s)
         row = layout.row(align=True)
         row.operator("spectral_gi.lux_calculate", icon="LIGHT_SUN")
         row.operator("spectral_gi.lux_add_workplane", icon="MESH_GRID")
@@ -90,8 +108,11 @@ class SPECTRALGI_PT_lux(bpy.types.Panel):
             for name, value in result_rows(s):
                 grid.label(text=name)
                 grid.label(text=value)
+            if s.unlit_points:
+                box.label(text=f"{s.unlit_points} points look outside the lit geometry", icon="ERROR")
             if s.result_object:
                 box.label(text=f"False colour on {s.result_object!r}", icon="COLOR")
+            box.operator("spectral_gi.lux_recolour", icon="COLOR")
             _images(box, s)
         layout.prop(context.scene, "spectral_gi_report_dir")
         row = layout.row(align=True)

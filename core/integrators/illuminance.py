@@ -57,8 +57,10 @@ by drawing the horizontal normal's azimuth per sample (dimension 6).
 """
 from __future__ import annotations
 
+import itertools
 import math
 import warnings
+import threading
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
@@ -386,6 +388,32 @@ def batches(spp):
 
 
 SERIAL_SAMPLES = 512  # a batch of at most this many samples (all points) runs on the calling thread
+TASK_SAMPLES = 2048  # samples per task handed to a thread, at the least (up to 8 tasks a thread)
+
+
+class _PoolLease:
+    """The n_threads − 1 worker threads that join the calling thread in one measurement:
+    ``submit`` as an executor's, and ``shutdown`` hands the threads back for the next
+    measurement instead of stopping them (starting and joining threads costs more than a
+    small measurement's samples)."""
+
+    _idle = {}  # thread count → executors not lent
+    _lock = threading.Lock()
+
+    def __init__(self, n_threads):
+        self.n_threads = n_threads
+        with self._lock:
+            idle = self._idle.setdefault(n_threads, [])
+            self._pool = idle.pop() if idle else None
+        if self._pool is None:
+            self._pool = ThreadPoolExecutor(max_workers=n_threads - 1, thread_name_prefix="spectral-gi-lux")
+
+    def submit(self, fn, *args):
+        return self._pool.submit(fn, *args)
+
+    def shutdown(self, wait=True):
+        with self._lock:
+            self._idle[self.n_threads].append(self._pool)
 
 
 def _jobs(idx, b0, b1, chunk):
@@ -406,8 +434,9 @@ def _run_batch(prep, st, pts, mode, vcmf, idx, span, pool, n_threads, chunk):
 
     b0, b1 = span
     nb = b1 - b0
-    if chunk is None:  # several jobs per thread even for one point
-        chunk = max(1, min(nb, -(-idx.size * nb // (8 * n_threads))))
+    tasks = max(1, min(8 * n_threads, -(-idx.size * nb // TASK_SAMPLES)))  # several per thread if there is work
+    if chunk is None:  # several jobs per task even for one point
+        chunk = max(1, min(nb, -(-idx.size * nb // tasks)))
     jobs = _jobs(idx, b0, b1, int(chunk))
     vals = np.empty(idx.size * nb)
     n_par = prep.materials.params.shape[1]
@@ -416,12 +445,22 @@ def _run_batch(prep, st, pts, mode, vcmf, idx, span, pool, n_threads, chunk):
         point_samples(jobs, int(j0), int(j1), pts, int(mode), vcmf, vals, prep.geometry, prep.materials,
                       prep.emitters, prep.media, prep.textures, st, scratch(n_par))
 
-    if pool is None or idx.size * nb <= SERIAL_SAMPLES:  # too little work to hand to threads
+    if pool is None or idx.size * nb <= SERIAL_SAMPLES or tasks == 1:  # too little work to hand to threads
         run(0, jobs.shape[0])
-    else:
-        cuts = np.unique(np.linspace(0, jobs.shape[0], 8 * n_threads + 1).astype(np.int64))
-        for f in [pool.submit(run, a, b) for a, b in zip(cuts[:-1], cuts[1:])]:
-            f.result()
+    else:  # the calling thread and the pool's n_threads − 1 take the tasks in turn
+        cuts = np.unique(np.linspace(0, jobs.shape[0], max(tasks, 2) + 1).astype(np.int64))
+        turn = itertools.count()  # next() is atomic: each task is taken once
+
+        def take():
+            while (k := next(turn)) + 1 < cuts.size:
+                run(cuts[k], cuts[k + 1])
+
+        futures = [pool.submit(take) for _ in range(n_threads - 1)]
+        try:
+            take()
+        finally:
+            for f in futures:
+                f.result()
     return vals.reshape(idx.size, nb)
 
 
@@ -465,7 +504,7 @@ def _measure(scene, mode, pts, q, spp, rel_error, max_depth, seed, threads, shou
         active[np.asarray(subset, np.int64)] = True
     n_measured = int(active.sum())
     n_threads = thread_count(threads)
-    pool = ThreadPoolExecutor(max_workers=n_threads, thread_name_prefix="spectral-gi-lux") if n_threads > 1 else None
+    pool = _PoolLease(n_threads) if n_threads > 1 else None
     try:
         for span in batches(spp):
             idx = np.flatnonzero(active)

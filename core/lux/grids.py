@@ -353,17 +353,36 @@ def _plane_of(points, name, tol):
     return c, n
 
 
-def polygon_grid(vertices, *, name="grid", normal=None, axis_u=None, spacing=None, band=0.0,
-                 maintenance_factor=1.0, kind="grid") -> CalculationSurface:
-    """A grid over a planar simple polygon (K, 3) (or (K, 2): in the plane z = 0): points at the
-    cell centres of a regular grid over the polygon's bounding box in its plane, kept where
-    inside the polygon and at least ``band`` m from its outline. The points face the side the
-    vertex order winds counter-clockwise around (right-hand rule), or ``normal``."""
+def _polygon3(vertices, name, what="a polygon"):
     verts = np.asarray(vertices, dtype=np.float64)
     if verts.ndim == 2 and verts.shape[1] == 2:
         verts = np.concatenate([verts, np.zeros((verts.shape[0], 1))], axis=1)
     if verts.ndim != 2 or verts.shape[1] != 3 or verts.shape[0] < 3 or not np.isfinite(verts).all():
-        raise LuxError(f"surface {name!r}: a polygon needs at least 3 finite vertices (K, 3), got {verts.shape}")
+        raise LuxError(f"surface {name!r}: {what} needs at least 3 finite vertices (K, 3), got {verts.shape}")
+    return verts
+
+
+def polygon_grid(vertices, *, name="grid", normal=None, axis_u=None, spacing=None, band=0.0,
+                 maintenance_factor=1.0, kind="grid", holes=(), hole_band=None) -> CalculationSurface:
+    """A grid over a planar simple polygon (K, 3) (or (K, 2): in the plane z = 0): points at the
+    cell centres of a regular grid over the polygon's bounding box in its plane, kept where
+    inside the polygon and at least ``band`` m from its outline. The points face the side the
+    vertex order winds counter-clockwise around (right-hand rule), or ``normal``.
+
+    ``holes``: polygons (each (K, 3) or (K, 2), in the same plane, inside the outline, either
+    winding) cut out of the area (a courtyard, a column, a stair well): points inside a hole are
+    dropped, and points closer than ``hole_band`` m to a hole's edge too (None: ``band``, the
+    band at the walls). EN 12464-1 leaves the band around columns and other obstacles to the
+    designer; 0 keeps every point outside the holes."""
+    verts = _polygon3(vertices, name)
+    hole_list = [_polygon3(h, name, f"hole {k}") for k, h in enumerate(holes)]
+    hole_band = band if hole_band is None else hole_band
+    try:
+        hole_band = float(hole_band)
+    except (TypeError, ValueError):
+        raise LuxError(f"surface {name!r}: the band at the holes must be a number of metres") from None
+    if not (math.isfinite(hole_band) and hole_band >= 0.0):
+        raise LuxError(f"surface {name!r}: the band at the holes must be ≥ 0 m, got {hole_band}")
     c, n = _plane_of(verts, name, 1e-6)
     newell = np.cross(verts, np.roll(verts, -1, axis=0)).sum(axis=0)
     if np.linalg.norm(newell) <= 1e-12:
@@ -377,8 +396,34 @@ def polygon_grid(vertices, *, name="grid", normal=None, axis_u=None, spacing=Non
     u, v, n = _frame(n, axis_u)
     st = np.stack([(verts - c) @ u, (verts - c) @ v], axis=1)
     segs = np.stack([st, np.roll(st, -1, axis=0)], axis=1)
-    return _planar_grid(name, kind, c, u, v, n, st.min(axis=0), st.max(axis=0),
-                        lambda q: _inside_polygon(q, st), segs, spacing, band, maintenance_factor)
+    scale = max(float(np.ptp(verts, axis=0).max()), 1e-12)
+    hole_st = []
+    for k, h in enumerate(hole_list):
+        off = np.abs((h - c) @ n).max()
+        if off > 1e-6 * scale:
+            raise LuxError(f"surface {name!r}: hole {k} is not in the polygon's plane (a vertex lies {off:.3g} m "
+                           "off it)")
+        hs = np.stack([(h - c) @ u, (h - c) @ v], axis=1)
+        if not _inside_polygon(hs, st).all():
+            raise LuxError(f"surface {name!r}: hole {k} is not inside the outline")
+        hole_st.append(hs)
+
+    def inside(q):
+        keep = _inside_polygon(q, st)
+        for hs in hole_st:
+            keep &= ~_inside_polygon(q, hs)
+            if hole_band > 0.0:
+                hseg = np.stack([hs, np.roll(hs, -1, axis=0)], axis=1)
+                keep &= _segment_distance(q, hseg[:, 0], hseg[:, 1]).min(axis=1) >= hole_band - 1e-12
+        return keep
+
+    if hole_st:
+        segs = np.concatenate([segs] + [np.stack([hs, np.roll(hs, -1, axis=0)], axis=1) for hs in hole_st])
+    grid = _planar_grid(name, kind, c, u, v, n, st.min(axis=0), st.max(axis=0), inside,
+                        segs[:len(st)], spacing, band, maintenance_factor)
+    if hole_st:  # the outline drawn on plans: the walls and the holes' edges
+        grid.outline = segs - (grid.origin - c) @ np.stack([u, v], axis=1)[None, None, :]
+    return grid
 
 
 def face_set_grid(positions, triangles, *, name="grid", normal=None, axis_u=None, spacing=None, band=0.0,
@@ -413,10 +458,12 @@ def face_set_grid(positions, triangles, *, name="grid", normal=None, axis_u=None
 
 
 def workplane(floor, *, height=WORKPLANE_HEIGHT, band=WORKPLANE_BAND, spacing=None, name="work plane",
-              maintenance_factor=1.0) -> CalculationSurface:
+              maintenance_factor=1.0, holes=(), hole_band=None) -> CalculationSurface:
     """A horizontal work plane ``height`` m above a room's floor polygon (K, 2) (floor at z = 0) or
     (K, 3) (a horizontal floor), normal up, grid axes along world X and Y, ``band`` m left out at
-    the walls (EN 12464-1:2021)."""
+    the walls (EN 12464-1:2021). ``holes``: polygons of the floor's holes (a courtyard, a column's
+    footprint), at the floor's level, with ``hole_band`` m left out around them (None: ``band``;
+    see :func:`polygon_grid`)."""
     fl = np.asarray(floor, dtype=np.float64)
     if fl.ndim == 2 and fl.shape[1] == 2:
         fl = np.concatenate([fl, np.zeros((fl.shape[0], 1))], axis=1)
@@ -427,9 +474,19 @@ def workplane(floor, *, height=WORKPLANE_HEIGHT, band=WORKPLANE_BAND, spacing=No
     h = float(height)
     if not math.isfinite(h):
         raise LuxError(f"surface {name!r}: the work plane height must be finite, got {height}")
-    plane = fl + np.array([0.0, 0.0, h])
+    lift = np.array([0.0, 0.0, h])
+    plane = fl + lift
+    raised = []
+    for k, hole in enumerate(holes):
+        hp = _polygon3(hole, name, f"hole {k}")
+        if np.asarray(hole).shape[-1] == 2:
+            hp[:, 2] = fl[0, 2]
+        if np.abs(hp[:, 2] - fl[0, 2]).max() > 1e-6:
+            raise LuxError(f"surface {name!r}: hole {k} must lie at the floor's level")
+        raised.append(hp + lift)
     return polygon_grid(plane, name=name, normal=(0.0, 0.0, 1.0), axis_u=(1.0, 0.0, 0.0), spacing=spacing,
-                        band=band, maintenance_factor=maintenance_factor, kind="workplane")
+                        band=band, maintenance_factor=maintenance_factor, kind="workplane", holes=raised,
+                        hole_band=hole_band)
 
 
 # --------------------------------------------------------------------------- mesh points

@@ -150,20 +150,25 @@ def _surface_meta(surface):
 
 
 def summary(surface, lux, std_error=None, samples=None, luminaires=(), project="", date="",
-            maintained=True) -> dict:
-    """The JSON summary as a dict: statistics, surface metadata, luminaire schedule, title fields."""
+            maintained=True, unlit=None) -> dict:
+    """The JSON summary as a dict: statistics, surface metadata, luminaire schedule, title fields, and
+    ``unlit_points``: the points that look outside the lit geometry (``unlit``, the dict of
+    ``core.unlit_points(...).to_dict()``: count, indices, reasons, ...), null when not checked."""
     st = statistics(surface, lux, std_error, samples, maintained)
+    if unlit is not None and not (isinstance(unlit, dict) and "count" in unlit and "indices" in unlit):
+        raise LuxError(f"unlit: expected the dict of unlit_points(...).to_dict(), got {type(unlit).__name__}")
     return {
         "format": SUMMARY_FORMAT, "version": SUMMARY_VERSION, "project": str(project), "date": str(date),
         "values": "maintained illuminance (MF x initial), lx" if maintained else "initial illuminance, lx",
         "statistics": st.to_dict(), "surface": _surface_meta(surface), "luminaires": check_luminaires(luminaires),
+        "unlit_points": None if unlit is None else dict(unlit),
     }
 
 
 def write_summary_json(path, surface, lux, std_error=None, samples=None, luminaires=(), project="", date="",
-                       maintained=True) -> dict:
+                       maintained=True, unlit=None) -> dict:
     """Write :func:`summary` as JSON atomically; returns the dict."""
-    d = summary(surface, lux, std_error, samples, luminaires, project, date, maintained)
+    d = summary(surface, lux, std_error, samples, luminaires, project, date, maintained, unlit)
     write_text(path, json.dumps(d, indent=2, allow_nan=False) + "\n")
     return d
 

@@ -132,6 +132,37 @@ def test_work_plane_follows_an_l_shaped_floor(ext, bpy):
     assert bpy.data.objects["Work Plane.001"].spectral_gi_lux.band == 0.0
 
 
+FLOOR_6X5 = [(0, 0), (6, 0), (6, 5), (0, 5)]  # m
+COURTYARD = [(2, 2), (4, 2), (4, 3), (2, 3)]  # m, a hole in it
+
+
+def test_work_plane_over_a_floor_with_a_hole(ext, bpy):
+    """A floor of four quads around a 2 × 1 m courtyard: the outline and the hole are found, the work
+    plane is the floor less the courtyard (triangles facing up), and its grid is core's work plane with
+    the hole: nothing in the courtyard, the 0.5 m band at its edges as at the walls."""
+    ops = lux_ops(ext)
+    verts = [(x, y, 0.0) for x, y in FLOOR_6X5 + COURTYARD]
+    room = ext.build.mesh("Courtyard Floor", verts, [(0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)])
+    outline, holes = ops.floor_outline(room)
+    assert {tuple(p) for p in outline[:, :2].round(9).tolist()} == {tuple(map(float, p)) for p in FLOOR_6X5}
+    assert len(holes) == 1 and {tuple(p) for p in holes[0][:, :2].round(9).tolist()} == \
+        {tuple(map(float, p)) for p in COURTYARD}
+    assert ops.floor_polygon(room).shape == (4, 3)
+    bpy.context.view_layer.objects.active = room
+    assert bpy.ops.spectral_gi.lux_add_workplane() == {"FINISHED"}
+    wp = bpy.data.objects["Work Plane"]
+    assert len(wp.data.vertices) == 8 and len(wp.data.polygons) == 8
+    assert all(p.normal.z == pytest.approx(1.0) for p in wp.data.polygons)
+    assert sum(p.area for p in wp.data.polygons) == pytest.approx(30.0 - 2.0)
+    surface = ops.build_surface(wp)
+    want = ext.core.lux.workplane(FLOOR_6X5, height=0.75, band=0.5, holes=[COURTYARD])
+    assert surface.grid_shape == want.grid_shape and surface.n_points == want.n_points
+    np.testing.assert_allclose(np.sort(surface.points, axis=0), np.sort(want.points, axis=0), atol=1e-9)
+    x, y = surface.points[:, 0], surface.points[:, 1]
+    gap = np.hypot(np.maximum.reduce([2 - x, x - 4, 0 * x]), np.maximum.reduce([2 - y, y - 3, 0 * y]))
+    assert (gap >= 0.5 - 1e-9).all() and surface.n_points < ext.core.lux.workplane(FLOOR_6X5).n_points
+
+
 def test_work_plane_needs_a_floor(ext, bpy):
     ops = lux_ops(ext)
     wall = ext.build.mesh("Wall", [(0, 0, 0), (1, 0, 0), (1, 0, 1), (0, 0, 1)], [(0, 1, 2, 3)])
@@ -199,6 +230,84 @@ def test_cancel_keeps_the_earlier_result(ext, bpy, monkeypatch):
     monkeypatch.delattr(ext.core, "point_illuminance")
     assert bpy.ops.spectral_gi.lux_calculate() == {"FINISHED"}
     assert s.mean == pytest.approx(4 * before[0], rel=1e-9)  # I × 4: every sample × 4
+
+
+# ----------------------------------------------------------------------------- false-colour scale, points outside
+
+
+def _corner_colours(obj, ops):
+    attr = obj.data.color_attributes[ops.ATTRIBUTE]
+    a = np.empty(len(attr.data) * 4, np.float32)
+    attr.data.foreach_get("color", a)
+    return a.reshape(-1, 4)
+
+
+def test_fixed_logarithmic_range_and_steps_reach_every_overlay(ext, bpy, tmp_path):
+    """The surface's scale settings (fixed range, logarithmic, steps) are the ones core draws the
+    viewport colours, the plan and the report page with; Update False Colours redraws without
+    calculating; a range core cannot draw is refused before a calculation."""
+    ops = lux_ops(ext)
+    lux = ext.core.lux
+    plane = open_floor(ext, bpy)
+    bpy.context.view_layer.objects.active = plane
+    assert bpy.ops.spectral_gi.lux_calculate() == {"FINISHED"}
+    s = plane.spectral_gi_lux
+    surface, e, se, spp, _lum = ops.saved_result(plane)
+    assert (s.scale_min, s.scale_max) == pytest.approx(lux.auto_range(e))
+    s.scale_auto, s.scale_fixed_min, s.scale_fixed_max, s.scale_log, s.scale_steps = False, 5.0, 40.0, True, 3
+    assert bpy.ops.spectral_gi.lux_recolour() == {"FINISHED"}
+    assert (s.scale_min, s.scale_max) == pytest.approx((5.0, 40.0)) and s.valid
+    options = {"vmin": 5.0, "vmax": 40.0, "steps": 3, "scale": "log"}
+    want = lux.colour_attribute(surface, e, linear=True, **options)
+    grid = bpy.data.objects[f"{plane.name} lux grid"]
+    got = _corner_colours(grid, ops)
+    np.testing.assert_allclose(got, np.repeat(want, 4, axis=0), atol=1e-6)
+    assert len({tuple(c) for c in np.round(got, 6).tolist()}) <= 3
+    assert not np.allclose(got, np.repeat(lux.colour_attribute(surface, e, linear=True), 4, axis=0))
+    plan = _plan_pixels(s.plan_image).reshape(s.plan_image.size[1], s.plan_image.size[0], 4)[::-1]
+    np.testing.assert_allclose(plan, lux.plan_image(surface, e, size=ops.PLAN_SIZE, **options), atol=1 / 255)
+    if ops.has_matplotlib():
+        written, _img = ops.write_report(bpy.context, plane, str(tmp_path))
+        assert any(p.endswith(".pdf") for p in written)
+    s.scale_fixed_min = 0.0  # a logarithmic scale from 0 lx
+    with pytest.raises(RuntimeError, match="Range Minimum above 0"):
+        bpy.ops.spectral_gi.lux_recolour()
+    with pytest.raises(RuntimeError, match="Range Minimum above 0"):
+        bpy.ops.spectral_gi.lux_calculate()
+    s.scale_log, s.scale_fixed_max = False, 0.0
+    with pytest.raises(RuntimeError, match="Range Maximum"):
+        bpy.ops.spectral_gi.lux_calculate()
+    s.scale_auto, s.scale_steps = True, 0  # automatic and continuous again
+    assert bpy.ops.spectral_gi.lux_recolour() == {"FINISHED"}
+    np.testing.assert_allclose(_corner_colours(bpy.data.objects[f"{plane.name} lux grid"], ops),
+                               np.repeat(lux.colour_attribute(surface, e, linear=True, steps=0), 4, axis=0),
+                               atol=1e-6)
+
+
+def test_points_outside_the_lit_geometry_are_warned_and_kept(ext, bpy, tmp_path):
+    """A surface facing away from the only light, with nothing to reflect: every point reads 0 lx;
+    the job names them in one warning line, the count is kept with the result and in the report's JSON."""
+    import json
+
+    ops = lux_ops(ext)
+    plane = open_floor(ext, bpy)
+    under = ext.build.plane("Under", size=1.0, location=(0, 0, -0.5))
+    under.rotation_euler = (math.pi, 0.0, 0.0)  # facing down, away from the lamp
+    under.hide_render = True
+    bpy.context.view_layer.update()
+    su = under.spectral_gi_lux
+    su.enabled, su.kind, su.samples = True, "FACES", 8
+    job = ops.prepare_job(bpy.context, [plane, under])
+    job.run_sync()
+    lines = ops.store_job(job)
+    warnings = ops.unlit_warnings(job)
+    assert len(lines) == 2 and len(warnings) == 1
+    assert warnings[0].startswith("2 of 2 points of 'Under' look outside the lit geometry (2 read 0 lx")
+    assert "0 (in open space" in warnings[0] and "1 (in open space" in warnings[0]
+    assert su.unlit_points == 2 and plane.spectral_gi_lux.unlit_points == 0
+    assert ops.saved_unlit(under)["indices"] == [0, 1] and ops.saved_unlit(plane)["count"] == 0
+    ops.write_report(bpy.context, under, str(tmp_path))
+    assert json.loads((tmp_path / "Under_lux.json").read_text())["unlit_points"]["count"] == 2
 
 
 # ----------------------------------------------------------------------------- the office, one click to the report

@@ -52,6 +52,22 @@ def test_lux_at_points_is_i_cos_over_d2_in_input_order(tmp_path, scene_file):
 
 
 @pytest.mark.slow
+def test_points_outside_the_lit_geometry_get_one_warning_line(tmp_path, scene_file):
+    """Two points under the floor read 0 lx with a standard error of 0: the one facing down sees
+    open space, the one facing up the back of the floor; both are named, in one line."""
+    pts = tmp_path / "p.pts"
+    pts.write_text("0 0 1 0 0 1\n0.2 0 -1 0 0 -1\n0 0.3 0.5 0 0 1\n0.5 0 -0.5 0 0 1\n")
+    r = run(["lux", str(scene_file), "--sensors", str(pts), "--spp", "16", "--out", "lux.csv"], tmp_path)
+    assert r.returncode == 0, r.stderr
+    warnings = [ln for ln in r.stderr.splitlines() if ln.startswith("warning:")]
+    assert len(warnings) == 1, r.stderr
+    assert "2 of 4 points (0-based, in file order) look outside the lit geometry" in warnings[0]
+    assert "1 (in open space" in warnings[0] and "3 (inside a solid or behind a wall)" in warnings[0]
+    lines = (tmp_path / "lux.csv").read_text().splitlines()
+    assert [float(ln.split(",")[6]) for ln in lines[1:]][1::2] == [0.0, 0.0]
+
+
+@pytest.mark.slow
 def test_lux_by_radiosity_gathers_the_lamp_exactly(tmp_path, scene_file):
     """--method radiosity: points facing the lamp get I cos θ / d² (a delta light, one exact
     sample; the floor is coplanar with the floor points, so it adds nothing to them)."""
@@ -116,6 +132,7 @@ def test_without_sensors_every_calculation_surface_gets_its_csv_summary_and_repo
         assert sum(1 for _ in f) == pts.shape[0] + 1
     assert (out / "desk.png").stat().st_size > 10_000 and (out / "desk.pdf").read_bytes()[:5] == b"%PDF-"
     assert "desk:" in r.stderr and "U0" in r.stderr
+    assert summary["unlit_points"]["count"] == 0 and "warning:" not in r.stderr
 
 
 def test_without_sensors_a_scene_without_surfaces_says_so(tmp_path, scene_file):

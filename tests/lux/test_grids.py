@@ -144,6 +144,61 @@ def test_face_set_with_a_hole_applies_the_band_at_the_hole():
     assert (np.minimum.reduce([x, y, 4 - x, 4 - y]) >= 0.3).all()
 
 
+COURTYARD = [(2.0, 2.0), (4.0, 2.0), (4.0, 3.0), (2.0, 3.0)]  # m, a 2 × 1 m hole in a 6 × 5 m floor
+FLOOR_6X5 = [(0, 0), (6, 0), (6, 5), (0, 5)]
+
+
+def _distance_to_box(x, y, x0, x1, y0, y1):
+    """Distance from points to the rectangle [x0, x1] × [y0, y1] (0 inside)."""
+    return np.hypot(np.maximum.reduce([x0 - x, x - x1, 0 * x]), np.maximum.reduce([y0 - y, y - y1, 0 * y]))
+
+
+def test_work_plane_over_a_floor_with_a_hole():
+    """A 6 × 5 m floor with a 2 × 1 m courtyard: the grid is the floor's (the band shrinks the box the
+    spacing is chosen for: 5 × 4 m inside 0.5 m, d = 5 m → p = 0.62 m → 9 × 7 cells), the points in the
+    courtyard are dropped, and so are those closer than the band to its edge; hole_band=0 keeps them."""
+    no_hole = G.workplane(FLOOR_6X5)
+    w = G.workplane(FLOOR_6X5, holes=[COURTYARD])
+    assert w.grid_shape == no_hole.grid_shape == (7, 9)
+    x, y = w.points[:, 0], w.points[:, 1]
+    d_hole = _distance_to_box(x, y, 2, 4, 2, 3)
+    assert (d_hole >= 0.5 - 1e-12).all() and (np.minimum.reduce([x, y, 6 - x, 5 - y]) >= 0.5 - 1e-12).all()
+    xa, ya = no_hole.points[:, 0], no_hole.points[:, 1]
+    dropped = _distance_to_box(xa, ya, 2, 4, 2, 3) < 0.5
+    assert 0 < dropped.sum() and w.n_points == no_hole.n_points - dropped.sum()
+    np.testing.assert_array_equal(w.grid_index, no_hole.grid_index[~dropped])
+    assert w.area == pytest.approx(w.n_points * w.spacing[0] * w.spacing[1])
+    tight = G.workplane(FLOOR_6X5, holes=[COURTYARD], hole_band=0.0)
+    inside = (xa > 2) & (xa < 4) & (ya > 2) & (ya < 3)
+    assert tight.n_points == no_hole.n_points - inside.sum() and inside.sum() > 0
+    # the plan's outline: the four walls and the courtyard's four edges, in the grid's frame
+    assert w.outline.shape == (8, 2, 2)
+    assert np.allclose(w.outline.min(axis=(0, 1)), [-0.5, -0.5]) and np.allclose(w.outline.max(axis=(0, 1)), [5.5, 4.5])
+
+
+def test_a_hole_either_way_round_and_the_face_set_with_the_same_hole_agree():
+    """The hole's winding does not matter, and the floor triangulated around the hole (the add-on's
+    work plane) gives the same points with the same band."""
+    a = G.workplane(FLOOR_6X5, holes=[COURTYARD], spacing=0.5)
+    b = G.workplane(FLOOR_6X5, holes=[COURTYARD[::-1]], spacing=0.5)
+    np.testing.assert_array_equal(a.grid_index, b.grid_index)
+    v = np.array([(*p, 0.75) for p in FLOOR_6X5 + COURTYARD])
+    tris = [[0, 1, 5], [0, 5, 4], [1, 2, 6], [1, 6, 5], [2, 3, 7], [2, 7, 6], [3, 0, 4], [3, 4, 7]]
+    f = G.face_set_grid(v, tris, spacing=0.5, band=0.5)
+    np.testing.assert_allclose(np.sort(f.points, axis=0), np.sort(a.points, axis=0))
+
+
+def test_hole_errors():
+    with pytest.raises(LuxError, match="hole 0 is not inside"):
+        G.workplane(FLOOR_6X5, holes=[[(5, 4), (7, 4), (7, 6), (5, 6)]])
+    with pytest.raises(LuxError, match="floor's level"):
+        G.workplane(FLOOR_6X5, holes=[[(*p, 0.3) for p in COURTYARD]])
+    with pytest.raises(LuxError, match="hole 0 needs at least 3"):
+        G.workplane(FLOOR_6X5, holes=[[(1, 1), (2, 2)]])
+    with pytest.raises(LuxError, match="band at the holes"):
+        G.workplane(FLOOR_6X5, holes=[COURTYARD], hole_band=-1.0)
+
+
 def test_polygon_errors():
     with pytest.raises(LuxError, match="not planar"):
         G.polygon_grid([(0, 0, 0), (1, 0, 0), (1, 1, 0.5), (0, 1, 0)])

@@ -111,6 +111,13 @@ def test_summary_json_round_trip(tmp_path):
     # zero illuminance: U0 is null, the file stays valid JSON
     R.write_summary_json(out, w, np.zeros(w.n_points))
     assert json.loads(out.read_text())["statistics"]["u0"] is None
+    # the points outside the lit geometry: null when not checked, else the record as given
+    assert back["unlit_points"] is None
+    unlit = {"count": 1, "indices": [3], "reasons": ["inside a solid or behind a wall"], "lux": [0.0]}
+    R.write_summary_json(out, w, lux, unlit=unlit)
+    assert json.loads(out.read_text())["unlit_points"] == unlit
+    with pytest.raises(LuxError, match="unlit_points"):
+        R.summary(w, lux, unlit=[3])
     (tmp_path / "other.json").write_text('{"format": "x"}')
     with pytest.raises(LuxError, match="not a"):
         R.read_summary_json(tmp_path / "other.json")

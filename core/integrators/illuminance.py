@@ -59,8 +59,8 @@ from __future__ import annotations
 
 import itertools
 import math
-import warnings
 import threading
+import warnings
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np

@@ -104,6 +104,28 @@ def test_rotated_environment_matches_cycles(ext, bpy, tmp_path):
     assert s.compare_delta_e_mean < 6.0
 
 
+@pytest.mark.parametrize("kind", ["EQUIRECTANGULAR", "FISHEYE_EQUISOLID"])
+def test_panoramic_camera_matches_cycles(ext, bpy, tmp_path, kind):
+    """An equirectangular (or equisolid fisheye) camera inside a lit room with a grey sky: the
+    whole sphere (or the fisheye's circle, black outside in both) in the same layout as Cycles'."""
+    b = ext.build
+    diffuse_scene(b, w=48, h=24 if kind == "EQUIRECTANGULAR" else 48, spp=64)
+    world = bpy.data.worlds.new("Grey sky")
+    b.scene.world = world
+    bg = next(n for n in world.node_tree.nodes if n.type == "BACKGROUND")
+    bg.inputs["Color"].default_value = (0.3, 0.35, 0.4, 1.0)
+    cam = b.scene.camera
+    cam.location = (0.5, -1.0, 1.2)
+    cam.data.type, cam.data.panorama_type = "PANO", kind
+    cam.data.fisheye_lens, cam.data.fisheye_fov = 6.0, math.radians(220.0)
+    s = b.scene.spectral_gi
+    s.compare_output_dir = str(tmp_path)
+    assert bpy.ops.spectral_gi.compare_cycles() == {"FINISHED"}
+    assert s.compare_valid
+    assert s.compare_luminance_ratio == pytest.approx(1.0, abs=0.02)
+    assert s.compare_delta_e_mean < 6.0
+
+
 @pytest.mark.parametrize("kind", ["POINT", "SPOT", "SUN"])
 def test_point_spot_and_sun_units_match_cycles(ext, bpy, tmp_path, kind):
     """End to end, Blender's units as Cycles reads them: P/(4π) W/sr for point and spot lights, a

@@ -178,3 +178,21 @@ def test_panoramic_camera_survives_save_and_load(tmp_path):
     back = load(save(sc, tmp_path / "pano.json"))
     for f in ("projection", "fisheye_fov", "fisheye_lens_mm", "latitude_min", "longitude_max"):
         assert getattr(back.camera, f) == getattr(sc.camera, f), f
+
+
+@pytest.mark.parametrize("projection, kw", [
+    (C.CAM_EQUIRECTANGULAR, dict(latitude_min=-1.0, latitude_max=0.7, longitude_min=-2.5, longitude_max=1.0)),
+    (C.CAM_FISHEYE_EQUIDISTANT, dict(fisheye_fov=4.0, shift_x=0.05)),
+    (C.CAM_FISHEYE_EQUISOLID, dict(fisheye_fov=3.6, fisheye_lens_mm=9.0, sensor_fit=C.FIT_VERTICAL))])
+def test_kernel_rays_match_the_reference_camera(projection, kw):
+    """The kernel's rays and the reference's (tests/oracles/reference/camera.py, written from the
+    contract) through the same film positions."""
+    from oracles.reference.camera import CameraModel
+
+    cam = turned_camera(projection, 36, 20, **kw)
+    ref = CameraModel(cam, RenderSettings(filter=C.FILTER_BOX, filter_width=1.0))
+    fx, fy = image_positions(36, 20, n=300, seed=4)
+    d = rays(cam, fx, fy)
+    want = ref.panorama(fx, fy) @ ref.rot.T
+    np.testing.assert_allclose(d, want, atol=1e-9)
+    assert (np.abs(d).sum(axis=1) == 0).any() == (projection != C.CAM_EQUIRECTANGULAR)

@@ -148,6 +148,22 @@ def test_noise_target_stops_at_the_requested_error():
     assert R.render(sc)[1].stop_reason == "spp"
 
 
+def test_a_strict_noise_target_does_not_stop_a_noisy_image_early():
+    """The error of the image's mean is far below its pixels' (it falls with the pixel count:
+    at 5 spp a large image's mean is known to 1 % while its pixels are noisy): a noise target of 0.01
+    takes at least Cycles' 64 samples and then judges the pixels."""
+    from spectral_gi.core.scene.builtin import cornell_box
+
+    sc = cornell_box(16, 16, spp=5, max_depth=4, seed=1)
+    film, _ = R.render(sc)
+    d = film.develop()
+    image_mean_error = np.sqrt(d.variance.sum()) / d.luminance.sum()
+    assert image_mean_error < 0.25 * R.relative_error(film)
+    sc.settings.spp, sc.settings.noise_target = 96, 0.01
+    film, stats = R.render(sc)
+    assert stats.stop_reason == "spp" and stats.spp == 96 and stats.relative_error > 0.01
+
+
 def test_pixel_relative_errors_judge_dark_pixels_against_the_image():
     """Relative standard error per pixel from the Y and Y² sums; a pixel darker than
     NOISE_DARK × the image's mean is judged against that luminance; a black pixel is converged."""

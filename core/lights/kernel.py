@@ -324,7 +324,7 @@ def sun_hit(geo, li, dx, dy, dz):
 # centre, looks along +X), and θ = acos z down the rows (row 0 at the zenith), after
 # turning the direction by −rotation about +Z. ``par`` = [cos ρ, sin ρ, scale, active].
 # The map is looked up bilinearly between texel centres (Cycles' default Linear
-# interpolation), wrapping in u and clamped in v. It is importance sampled by a piecewise-
+# interpolation), periodic in u and, as Cycles has it, in v. It is importance sampled by a piecewise-
 # constant 2D distribution over (u, v = θ/π), one cell a texel, of the filtered map's
 # luminance averaged over the cell × sin θ (core/lights/record.py world_image): positive
 # wherever the filtered map is; dω = 2π² sin θ du dv.
@@ -337,7 +337,8 @@ TWO_PI2 = 2.0 * math.pi * math.pi
 @inline
 def env_texel(img, u, v):
     """The map's bilinear rgb at (u, v) in [0, 1]²: texel centres at ((i + ½)/w, (j + ½)/h),
-    wrapping across u = 0 = 1, clamped at the poles."""
+    periodic on both axes as Cycles' image lookups are (within half a texel of a pole the
+    first and last rows blend, as in Cycles' render of the same map)."""
     h = img.shape[0]
     w = img.shape[1]
     x = u * w - 0.5
@@ -350,8 +351,10 @@ def env_texel(img, u, v):
     i1 = i0 + 1
     if i1 == w:
         i1 = 0
-    j0 = min(max(int(yf), 0), h - 1)
-    j1 = min(max(int(yf) + 1, 0), h - 1)
+    j0 = int(yf) % h
+    j1 = j0 + 1
+    if j1 == h:
+        j1 = 0
     a = (1.0 - tx) * (1.0 - ty)
     b = tx * (1.0 - ty)
     c = (1.0 - tx) * ty

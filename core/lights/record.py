@@ -244,14 +244,12 @@ def world_emission_basis(cmf=None):
 
 def filtered_cell_means(f):
     """The mean over each texel of the bilinear interpolation of the (H, W) map ``f`` between
-    texel centres, wrapping across the columns and clamped at the first and last rows: on each
-    axis the cell's mean is (f[i−1] + 6 f[i] + f[i+1]) / 8 (each half of the cell is a linear
-    ramp to the neighbour's centre, whose mean weight is ¼ there)."""
+    texel centres, periodic on both axes (core/lights/kernel.py env_texel): on each axis the
+    cell's mean is (f[i−1] + 6 f[i] + f[i+1]) / 8 (each half of the cell is a linear ramp to
+    the neighbour's centre, whose mean weight is ¼ there)."""
     f = np.asarray(f, np.float64)
     g = 0.75 * f + 0.125 * (np.roll(f, 1, axis=1) + np.roll(f, -1, axis=1))
-    up = np.concatenate([g[:1], g[:-1]], axis=0)
-    down = np.concatenate([g[1:], g[-1:]], axis=0)
-    return 0.75 * g + 0.125 * (up + down)
+    return 0.75 * g + 0.125 * (np.roll(g, 1, axis=0) + np.roll(g, -1, axis=0))
 
 
 def world_image(world, cmf, scene_radius):

@@ -46,15 +46,17 @@ def hdr_map(h=16, w=32, seed=3):
 
 
 def bilinear(img, u, v):
-    """The map's bilinear interpolation at (u, v) in [0, 1]² between texel centres, wrapping in
-    u, clamped in v (Cycles' Linear interpolation of an environment texture)."""
+    """The map's bilinear interpolation at (u, v) in [0, 1]² between texel centres, periodic in
+    u and v (Cycles' Linear interpolation of an environment texture: its first and last rows
+    blend within half a texel of the poles, tests/addon/test_addon_compare.py)."""
     h, w = img.shape[:2]
     x, y = np.asarray(u) * w - 0.5, np.asarray(v) * h - 0.5
     x0, y0 = np.floor(x), np.floor(y)
     tx, ty = (x - x0)[..., None], (y - y0)[..., None]
     i0 = x0.astype(int) % w
     i1 = (i0 + 1) % w
-    j0, j1 = np.clip(y0.astype(int), 0, h - 1), np.clip(y0.astype(int) + 1, 0, h - 1)
+    j0 = y0.astype(int) % h
+    j1 = (j0 + 1) % h
     return ((1 - tx) * (1 - ty) * img[j0, i0] + tx * (1 - ty) * img[j0, i1] + (1 - tx) * ty * img[j1, i0]
             + tx * ty * img[j1, i1])
 
@@ -191,7 +193,7 @@ def test_world_pdf_integrates_to_one_and_covers_the_filtered_map():
 
     img = np.zeros((4, 8, 3), np.float32)
     img[1, 2] = 5.0
-    img[3, 7] = (1.0, 2.0, 0.5)  # at the bottom row and the seam
+    img[3, 7] = (1.0, 2.0, 0.5)  # at the bottom row (which also lights the top) and the seam
     em = R.prepare(plane_scene(world=World(image=img, rotation=0.4))).emitters
     n = 200
     u = (np.arange(2 * n) + 0.5) / (2 * n)

@@ -164,8 +164,8 @@ def _parser():
     r.add_argument("--time-limit", type=_float_in(0.0, 1e9),
                    help="stop after this many seconds of rendering (default: the scene's; 0: none)")
     r.add_argument("--noise-target", type=_float_in(0.0, 1e6),
-                   help="stop once the relative standard error of the image's mean luminance is at most this "
-                        "(e.g. 0.002; default: the scene's; 0: none)")
+                   help="stop once 95 %% of the pixels have a relative standard error of luminance at most this, "
+                        "after Cycles' minimum samples (e.g. 0.05; default: the scene's; 0: none)")
     r.add_argument("--colour-space", "--color-space", dest="colour_space", choices=("rec709", "acescg", "xyz"),
                    help="colour space of the EXR's R, G, B channels: linear Rec.709, ACEScg (AP1) or CIE XYZ "
                         "(default: the scene's, rec709); the PNG preview is always sRGB")

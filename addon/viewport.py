@@ -120,7 +120,9 @@ def camera_key(camera):
     """A comparable summary of a core Camera (a new key: a new view)."""
     return (tuple(float(x) for x in camera.to_world.ravel()), camera.width, camera.height, camera.lens_mm,
             camera.sensor_width_mm, camera.sensor_height_mm, camera.sensor_fit, camera.shift_x, camera.shift_y,
-            camera.projection, camera.ortho_scale, camera.fstop, camera.focus_distance)
+            camera.projection, camera.ortho_scale, camera.fstop, camera.focus_distance, camera.latitude_min,
+            camera.latitude_max, camera.longitude_min, camera.longitude_max, camera.fisheye_fov,
+            camera.fisheye_lens_mm)
 
 
 def viewport_samples(scene):

@@ -60,6 +60,11 @@ LIGHT_KINDS = (LIGHT_RECT, LIGHT_ELLIPSE, LIGHT_POINT, LIGHT_SPOT, LIGHT_SUN)
 # Camera projection tags.
 CAM_PERSPECTIVE = 0
 CAM_ORTHOGRAPHIC = 1
+CAM_EQUIRECTANGULAR = 2  # panoramic, Cycles' equirectangular (latitude/longitude ranges)
+CAM_FISHEYE_EQUIDISTANT = 3  # panoramic, Cycles' equidistant fisheye (field of view over the image)
+CAM_FISHEYE_EQUISOLID = 4  # panoramic, Cycles' equisolid fisheye (lens, field of view, sensor)
+CAM_PANORAMIC = (CAM_EQUIRECTANGULAR, CAM_FISHEYE_EQUIDISTANT, CAM_FISHEYE_EQUISOLID)
+CAM_PROJECTIONS = (CAM_PERSPECTIVE, CAM_ORTHOGRAPHIC) + CAM_PANORAMIC
 
 # Pixel filters (RenderSettings.filter).
 FILTER_BOX = 0

@@ -20,7 +20,8 @@ def sensor_fit_tag(fit):
 
 
 def export_camera(ctx, scene, depsgraph):
-    """The core camera: perspective or orthographic (``ortho_scale``), thin lens when depth of field is on."""
+    """The core camera: perspective, orthographic (``ortho_scale``) or panoramic (equirectangular,
+    fisheye equidistant or equisolid), thin lens when depth of field is on."""
     from ...core import Camera, constants
 
     cam_obj = scene.camera
@@ -39,13 +40,17 @@ def export_camera(ctx, scene, depsgraph):
     if data.type == "ORTHO":
         extra["projection"] = constants.CAM_ORTHOGRAPHIC
         extra["ortho_scale"] = float(data.ortho_scale) * ctx.scale_length
+    elif data.type == "PANO":
+        extra.update(panorama_settings(cam_obj.name, data))
     elif data.type != "PERSP":
-        raise ExportError(f"camera {cam_obj.name!r}: only perspective and orthographic cameras are supported "
-                          f"(it is {data.type.lower()})")
+        raise ExportError(f"camera {cam_obj.name!r}: only perspective, orthographic and panoramic cameras are "
+                          f"supported (it is {data.type.lower()})")
     dof = data.dof
     if dof.use_dof:
         if data.type == "ORTHO":
             ctx.note(f"{cam_obj.name}: depth of field of an orthographic camera ignored")
+        elif data.type == "PANO":
+            ctx.note(f"{cam_obj.name}: depth of field of a panoramic camera ignored")
         elif dof.aperture_fstop > 0.0:
             extra["fstop"] = float(dof.aperture_fstop)
             target = dof.focus_object
@@ -70,6 +75,27 @@ def export_camera(ctx, scene, depsgraph):
         shift_y=float(data.shift_y),
         **extra,
     )
+
+
+PANORAMA_TYPES = ("EQUIRECTANGULAR", "FISHEYE_EQUIDISTANT", "FISHEYE_EQUISOLID")
+
+
+def panorama_settings(name, data):
+    """The core Camera fields of a panoramic Blender camera (``Camera.panorama_type`` and its
+    parameters, as Cycles reads them); ExportError for the panorama types not rendered."""
+    from ...core import constants
+
+    kind = data.panorama_type
+    if kind not in PANORAMA_TYPES:
+        raise ExportError(f"camera {name!r}: panorama type {kind.lower().replace('_', ' ')} is not supported "
+                          "(equirectangular, fisheye equidistant and fisheye equisolid are)")
+    tags = {"EQUIRECTANGULAR": constants.CAM_EQUIRECTANGULAR,
+            "FISHEYE_EQUIDISTANT": constants.CAM_FISHEYE_EQUIDISTANT,
+            "FISHEYE_EQUISOLID": constants.CAM_FISHEYE_EQUISOLID}
+    return {"projection": tags[kind], "latitude_min": float(data.latitude_min),
+            "latitude_max": float(data.latitude_max), "longitude_min": float(data.longitude_min),
+            "longitude_max": float(data.longitude_max), "fisheye_fov": float(data.fisheye_fov),
+            "fisheye_lens_mm": float(data.fisheye_lens)}
 
 
 def focus_distance_to_point(to_world, point, minimum=1e-4):

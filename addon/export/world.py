@@ -59,6 +59,9 @@ def _environment(ctx, name, tex):
     if w < 1 or h < 1:
         ctx.skip("environment images that cannot be loaded", f"{name}/{img.name}")
         return None
+    interp = getattr(tex, "interpolation", "Linear")
+    if interp != "Linear":
+        ctx.note(f"{name}/{tex.name}: {interp} interpolation rendered as Linear (bilinear)")
     buf = np.empty(w * h * 4, dtype=np.float32)
     img.pixels.foreach_get(buf)
     rgb = image_rgb_top_down(buf, w, h)

@@ -1,6 +1,7 @@
 """The camera's record: the camera vector and the pixel filter's distribution."""
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -61,7 +62,35 @@ def camera_vector(cam, settings=None):
     v[K.CAM_LENS_R] = 0.001 * cam.lens_mm / (2.0 * cam.fstop) if cam.fstop > 0 else 0.0
     v[K.CAM_FOCUS] = cam.focus_distance
     v[K.CAM_FILTER_W] = settings.filter_width if settings is not None else 1.0
+    if cam.projection in C.CAM_PANORAMIC:
+        v[K.CAM_OFF_X] = cam.shift_x  # a panorama's shift moves (u, v) over the whole image (as Cycles)
+        v[K.CAM_OFF_Y] = cam.shift_y
+        v[K.CAM_LENS_R] = 0.0  # no depth of field
+        v[K.CAM_PANO:K.CAM_PANO + 4] = panorama_parameters(cam)
     return v
+
+
+def panorama_parameters(cam):
+    """The four CAM_PANO entries of a panoramic camera (core/camera/kernel.py): Cycles'
+    equirectangular range, the equidistant fisheye's field of view, or the equisolid
+    fisheye's lens (mm), field of view and sensor width and height (mm) fitted to the image
+    as Cycles fits them (the fitted axis keeps its sensor size, the other follows the
+    image's aspect)."""
+    if cam.projection == C.CAM_EQUIRECTANGULAR:
+        return (cam.longitude_min - cam.longitude_max, -cam.longitude_min, cam.latitude_min - cam.latitude_max,
+                0.5 * math.pi - cam.latitude_min)
+    if cam.projection == C.CAM_FISHEYE_EQUIDISTANT:
+        return (cam.fisheye_fov, 0.0, 0.0, 0.0)
+    w, h = float(cam.width), float(cam.height)
+    fit = cam.sensor_fit
+    if fit == C.FIT_AUTO:
+        horizontal, size = w > h, cam.sensor_width_mm
+    elif fit == C.FIT_HORIZONTAL:
+        horizontal, size = True, cam.sensor_width_mm
+    else:
+        horizontal, size = False, cam.sensor_height_mm
+    sw, sh = (size, size * h / w) if horizontal else (size * w / h, size)
+    return (cam.fisheye_lens_mm, cam.fisheye_fov, sw, sh)
 
 
 def filter_distribution(settings):

@@ -255,7 +255,7 @@ def render_farm(scene, client, *, engine, progress=None, should_cancel=None, on_
                 progress(film.spp, total, (film.spp - start) * cam.width * cam.height / max(elapsed, 1e-9))
             if on_pass is not None:
                 on_pass(film)
-            if film.spp < total and st.noise_target > 0 and engine.relative_error(film) <= st.noise_target:
+            if film.spp < total and engine.noise_reached(film, st.noise_target):
                 reason = "noise_target"
                 break
     finally:

@@ -298,12 +298,12 @@ def _emitter_sample(ei, ua, ub, px, py, pz, lam, le, geo, mat, emt, st):
         for i in range(NW):
             le[i] = light_scale[li] * lookup(spec, light_spec[li], lam[i])
     else:  # the world image
-        wx, wy, wz, lpdf, ti, tj = env_sample(world_dist, world_par, ua, ub)
+        wx, wy, wz, lpdf, cr, cg, cb = env_sample(world_img, world_dist, world_par, ua, ub)
         dist = np.inf
         fac = 1.0
-        cr = world_par[2] * world_img[tj, ti, 0]
-        cg = world_par[2] * world_img[tj, ti, 1]
-        cb = world_par[2] * world_img[tj, ti, 2]
+        cr *= world_par[2]
+        cg *= world_par[2]
+        cb *= world_par[2]
         for i in range(NW):
             le[i] = (cr * lookup(spec, world_row, lam[i]) + cg * lookup(spec, world_row + 1, lam[i])
                      + cb * lookup(spec, world_row + 2, lam[i]))
@@ -482,13 +482,13 @@ def _world_hit(d, full_weight, prev_pdf, scr, spec, emt):
     world_emit = emt.world_emit
     emit_prob = emt.emit_prob
     if world_par[3] > 0.0:
-        ti, tj, wpdf = env_lookup(world_dist, world_par, world_img.shape[1], world_img.shape[0], dx, dy, dz)
+        tr, tg, tb, wpdf = env_lookup(world_img, world_dist, world_par, dx, dy, dz)
         w = 1.0
         if not full_weight and world_emit >= 0:
             w = power_heuristic(prev_pdf, emit_prob[world_emit] * wpdf)
-        cr = w * world_par[2] * world_img[tj, ti, 0]
-        cg = w * world_par[2] * world_img[tj, ti, 1]
-        cb = w * world_par[2] * world_img[tj, ti, 2]
+        cr = w * world_par[2] * tr
+        cg = w * world_par[2] * tg
+        cb = w * world_par[2] * tb
         for i in range(NW):
             rad[i] += beta[i] * (cr * at(spec, world_row, lc[i], lf[i]) + cg * at(spec, world_row + 1, lc[i], lf[i])
                                  + cb * at(spec, world_row + 2, lc[i], lf[i]))
@@ -1145,6 +1145,9 @@ def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr):
             for s in range(s0, s1):
                 smp = (path_key(st.seed, pix, s), pseed, s)
                 ox, oy, oz, dx, dy, dz = _camera_sample(camr, st, smp, x, y, width, height, thin_lens, scr)
+                if dx == 0.0 and dy == 0.0 and dz == 0.0:  # outside a fisheye's image circle: black
+                    _film_add(fr, y, x, scr, (0.0, 0.0, 0.0), 1.0 if st.film_transparent != 0 else 0.0, photometric)
+                    continue
                 dim = np.int64(5)
                 depth = 0
                 prev_pdf = 0.0

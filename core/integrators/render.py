@@ -10,6 +10,7 @@ two threads launch parallel kernels at once, which would take Blender down with 
 from __future__ import annotations
 
 import gc
+import math
 import os
 import sys
 import time
@@ -149,26 +150,73 @@ class RenderStats:
     build_seconds: float
     compile_seconds: float
     stop_reason: str = "spp"  # "spp" (all samples), "time_limit", "noise_target" or "cancelled"
-    relative_error: float = float("nan")  # relative standard error of the image's mean luminance
+    relative_error: float = float("nan")  # the noise target's measure (relative_error): per-pixel, 95th percentile
     dropped_samples: int = 0  # samples the film does not hold for not being finite (Film.dropped_samples)
 
 
-def relative_error(film):
-    """Relative standard error of the image's mean luminance, from the film's per-pixel
-    sums of Y and Y² (pixels are independent): sqrt(Σ var(pixel mean)) / Σ pixel mean."""
+# The noise target judges each pixel's relative standard error of luminance (as Cycles'
+# adaptive sampling judges each pixel): the render stops once NOISE_QUANTILE of the pixels are
+# within the target. A pixel darker than NOISE_DARK × the image's mean luminance is judged
+# against that luminance instead of its own (a black or nearly black pixel's relative error is
+# no measure of visible noise; Cycles likewise relaxes its criterion in dark pixels).
+NOISE_QUANTILE = 0.95
+NOISE_DARK = 0.05
+
+
+def noise_min_samples(target):
+    """The samples taken before the noise target is first judged: Cycles' automatic minimum,
+    max(4, ⌈16 / target^0.3⌉) (intern/cycles/scene/integrator.cpp, get_adaptive_sampling:
+    0.1 → 32, 0.01 → 64)."""
+    if not target > 0:
+        return 0
+    return max(4, math.ceil(16.0 / target ** 0.3))
+
+
+def pixel_relative_errors(film):
+    """(H, W) relative standard error of each pixel's mean luminance, from the film's per-pixel
+    sums of Y and Y² (sample variance / n, over max(pixel mean, NOISE_DARK × image mean));
+    inf where a pixel has fewer than 2 samples."""
     from ..film import photometric_y_sums
 
     sums = film.sums
     n = sums[..., 3]
     if n.size == 0 or n.min() < 2:
-        return float("inf")
+        return np.full(n.shape, np.inf)
     mean = photometric_y_sums(sums) / n
     var = np.maximum(sums[..., 4] / n - mean * mean, 0.0) / (n - 1.0)
-    total = float(mean.sum())
-    se = float(np.sqrt(var.sum()))
-    if total <= 0.0:
-        return 0.0 if se == 0.0 else float("inf")
-    return se / total
+    floor = NOISE_DARK * max(float(mean.mean()), 0.0)
+    ref = np.maximum(mean, floor)
+    se = np.sqrt(var)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        err = np.where(ref > 0.0, se / np.where(ref > 0.0, ref, 1.0), np.where(se > 0.0, np.inf, 0.0))
+    return err
+
+
+def relative_error(film):
+    """The noise target's measure of ``film``: the NOISE_QUANTILE quantile of the pixels'
+    relative standard errors of luminance (pixel_relative_errors)."""
+    err = pixel_relative_errors(film)
+    if err.size == 0:
+        return float("inf")
+    return float(np.quantile(err, NOISE_QUANTILE, method="higher"))
+
+
+def noise_samples_needed(film, target):
+    """The samples at which ``film`` should meet the noise target: Cycles' minimum, or past it the
+    count at which the error, falling as 1/√n, reaches the target (never fewer than one more)."""
+    first = noise_min_samples(target)
+    if film.spp < first:
+        return first
+    err = relative_error(film)
+    if not math.isfinite(err):
+        return film.spp + 1
+    return max(film.spp + 1, math.ceil(film.spp * (err / target) ** 2))
+
+
+def noise_reached(film, target):
+    """True when ``film`` meets the noise target: at least noise_min_samples(target) samples and
+    relative_error(film) ≤ target."""
+    return target > 0 and film.spp >= noise_min_samples(target) and relative_error(film) <= target
 
 
 def start_film(scene, resume=None, spectral_bins=0):
@@ -202,8 +250,10 @@ def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_
     resume: a Film of this scene (e.g. from Film.load) to continue from its spp up to the
     scene's; the result is bit-identical to rendering all samples at once (the Hammersley
     sampler excepted: its points depend on the total). The given film is not modified.
-    The scene's settings.time_limit (s) and settings.noise_target (relative standard
-    error of the mean luminance) stop the render early; RenderStats.stop_reason says why.
+    The scene's settings.time_limit (s) and settings.noise_target (each pixel's relative
+    standard error of luminance, judged over NOISE_QUANTILE of the pixels after Cycles'
+    minimum samples; ``relative_error``) stop the render early; RenderStats.stop_reason says
+    why. The whole image stops at once (no per-pixel allocation).
     measure=True renders the illuminance of the scene's sensor meshes instead (see
     core/sensors.py, which turns the film into lux).
     client: a dask.distributed Client (or a scheduler address, or "local:N"): the samples
@@ -397,7 +447,7 @@ def _progressive(prep, film, pool, total, progress, should_cancel, on_pass, t_co
         if st.time_limit > 0 and elapsed >= st.time_limit:
             reason = "time_limit"
             break
-        if st.noise_target > 0 and relative_error(film) <= st.noise_target:
+        if noise_reached(film, st.noise_target):
             reason = "noise_target"
             break
         # adapt the pass length towards PASS_SECONDS (and within a time limit)
@@ -406,6 +456,8 @@ def _progressive(prep, film, pool, total, progress, should_cancel, on_pass, t_co
             if st.time_limit > 0:
                 target = min(target, max(st.time_limit - elapsed, 0.0))
             step = int(max(1, min(step * 4, round(n * target / dt))))
+        if st.noise_target > 0:  # end the next pass where the target should be met, not far past it
+            step = min(step, max(1, noise_samples_needed(film, st.noise_target) - done))
     elapsed = time.perf_counter() - t0
     stats = RenderStats(done, elapsed, (done - start) * cam.width * cam.height / max(elapsed, 1e-9),
                         reason == "cancelled", prep.build_seconds, t_compile, reason, relative_error(film),

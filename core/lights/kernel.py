@@ -323,17 +323,52 @@ def sun_hit(geo, li, dx, dy, dz):
 # equirectangular): u = 1/2 − atan2(y, x)/(2π) across the columns (u = 1/2, the image's
 # centre, looks along +X), and θ = acos z down the rows (row 0 at the zenith), after
 # turning the direction by −rotation about +Z. ``par`` = [cos ρ, sin ρ, scale, active].
-# The map is importance sampled by a piecewise-constant 2D distribution over (u, v = θ/π)
-# of the texels' luminance × sin θ; dω = 2π² sin θ du dv.
+# The map is looked up bilinearly between texel centres (Cycles' default Linear
+# interpolation), periodic in u and, as Cycles has it, in v. It is importance sampled by a piecewise-
+# constant 2D distribution over (u, v = θ/π), one cell a texel, of the filtered map's
+# luminance averaged over the cell × sin θ (core/lights/record.py world_image): positive
+# wherever the filtered map is; dω = 2π² sin θ du dv.
 
 from ..sampling.distrib import distribution_2d_pdf, sample_distribution_2d  # noqa: E402
 
 TWO_PI2 = 2.0 * math.pi * math.pi
 
 
+@inline
+def env_texel(img, u, v):
+    """The map's bilinear rgb at (u, v) in [0, 1]²: texel centres at ((i + ½)/w, (j + ½)/h),
+    periodic on both axes as Cycles' image lookups are (within half a texel of a pole the
+    first and last rows blend, as in Cycles' render of the same map)."""
+    h = img.shape[0]
+    w = img.shape[1]
+    x = u * w - 0.5
+    y = v * h - 0.5
+    xf = math.floor(x)
+    yf = math.floor(y)
+    tx = x - xf
+    ty = y - yf
+    i0 = int(xf) % w
+    i1 = i0 + 1
+    if i1 == w:
+        i1 = 0
+    j0 = int(yf) % h
+    j1 = j0 + 1
+    if j1 == h:
+        j1 = 0
+    a = (1.0 - tx) * (1.0 - ty)
+    b = tx * (1.0 - ty)
+    c = (1.0 - tx) * ty
+    d = tx * ty
+    r = a * img[j0, i0, 0] + b * img[j0, i1, 0] + c * img[j1, i0, 0] + d * img[j1, i1, 0]
+    g = a * img[j0, i0, 1] + b * img[j0, i1, 1] + c * img[j1, i0, 1] + d * img[j1, i1, 1]
+    bl = a * img[j0, i0, 2] + b * img[j0, i1, 2] + c * img[j1, i0, 2] + d * img[j1, i1, 2]
+    return r, g, bl
+
+
 @function
-def env_lookup(dist, par, w, h, dx, dy, dz):
-    """Texel (i, j) seen along the unit direction d, and the solid-angle pdf of env_sample."""
+def env_lookup(img, dist, par, dx, dy, dz):
+    """The map's bilinear rgb seen along the unit direction d, and the solid-angle pdf of
+    env_sample: (r, g, b, pdf)."""
     x = par[0] * dx + par[1] * dy
     y = -par[1] * dx + par[0] * dy
     z = min(max(dz, -1.0), 1.0)
@@ -345,29 +380,26 @@ def env_lookup(dist, par, w, h, dx, dy, dz):
     v = math.acos(z) / math.pi
     if not v >= 0.0:
         v = 0.0
-    i = min(int(u * w), w - 1)
-    j = min(int(v * h), h - 1)
+    r, g, b = env_texel(img, u, v)
     sin_t = math.sqrt(max(0.0, 1.0 - z * z))
     if sin_t <= 0.0:
-        return i, j, 0.0
-    return i, j, distribution_2d_pdf(dist, u, v) / (TWO_PI2 * sin_t)
+        return r, g, b, 0.0
+    return r, g, b, distribution_2d_pdf(dist, u, v) / (TWO_PI2 * sin_t)
 
 
 @function
-def env_sample(dist, par, ua, ub):
-    """A direction from the world image's distribution: (x, y, z, solid-angle pdf, i, j)."""
+def env_sample(img, dist, par, ua, ub):
+    """A direction from the world image's distribution and the map's bilinear rgb there:
+    (x, y, z, solid-angle pdf, r, g, b)."""
     u, v, p = sample_distribution_2d(dist, ua, ub)
-    w = int(dist[0])
-    h = int(dist[1])
-    i = min(int(u * w), w - 1)
-    j = min(int(v * h), h - 1)
     theta = v * math.pi
     sin_t = math.sin(theta)
     if sin_t <= 0.0 or p <= 0.0:
-        return 0.0, 0.0, 1.0, 0.0, i, j
+        return 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0
+    r, g, b = env_texel(img, u, v)
     phi = (0.5 - u) * TWO_PI
     xl = sin_t * math.cos(phi)
     yl = sin_t * math.sin(phi)
     x = par[0] * xl - par[1] * yl
     y = par[1] * xl + par[0] * yl
-    return x, y, math.cos(theta), p / (TWO_PI2 * sin_t), i, j
+    return x, y, math.cos(theta), p / (TWO_PI2 * sin_t), r, g, b

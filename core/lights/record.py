@@ -242,6 +242,16 @@ def world_emission_basis(cmf=None):
     return rows, y / y.sum()
 
 
+def filtered_cell_means(f):
+    """The mean over each texel of the bilinear interpolation of the (H, W) map ``f`` between
+    texel centres, periodic on both axes (core/lights/kernel.py env_texel): on each axis the
+    cell's mean is (f[i−1] + 6 f[i] + f[i+1]) / 8 (each half of the cell is a linear ramp to
+    the neighbour's centre, whose mean weight is ¼ there)."""
+    f = np.asarray(f, np.float64)
+    g = 0.75 * f + 0.125 * (np.roll(f, 1, axis=1) + np.roll(f, -1, axis=1))
+    return 0.75 * g + 0.125 * (np.roll(g, 1, axis=0) + np.roll(g, -1, axis=0))
+
+
 def world_image(world, cmf, scene_radius):
     """Kernel arrays of the world image: (img, distribution, par, basis rows or None, flux in lm)."""
     from ..sampling import build_distribution_2d
@@ -252,7 +262,8 @@ def world_image(world, cmf, scene_radius):
     img = np.ascontiguousarray(img, np.float32)
     h, w = img.shape[:2]
     basis, y = world_emission_basis(cmf)
-    lum = C.K_M * float(world.image_scale) * (img.astype(np.float64) @ y)  # cd/m² per texel
+    # cd/m² of the bilinearly filtered map (core/lights/kernel.py env_texel) averaged over each texel
+    lum = C.K_M * float(world.image_scale) * filtered_cell_means(img.astype(np.float64) @ y)
     theta = np.pi * (np.arange(h) + 0.5) / h
     dist = build_distribution_2d(lum * np.sin(theta)[:, None])
     # ∫ L dω over the sphere, per texel 2π/w · (cos θ0 − cos θ1)

@@ -231,11 +231,16 @@ class Profile:
 
 @dataclass
 class Camera:
-    """A perspective camera with Blender's conventions.
+    """A perspective, orthographic or panoramic camera with Blender's conventions.
 
     ``to_world`` maps camera space (looking down -Z, +Y up) to world space. The
     field of view follows Blender: the sensor size along the fitted axis
     (``sensor_fit``; AUTO fits the larger image dimension) over the focal length.
+    Panoramic projections (Cycles'): equirectangular over ``latitude_min`` ..
+    ``latitude_max`` (bottom to top) and ``longitude_min`` .. ``longitude_max`` (left to
+    right; rad, longitude 0 down −Z, positive towards the camera's +X), equidistant fisheye
+    of ``fisheye_fov`` across the image, equisolid fisheye of ``fisheye_lens_mm`` and
+    ``fisheye_fov`` on the fitted sensor (core/camera/kernel.py).
     """
 
     to_world: np.ndarray  # float64 (4, 4)
@@ -247,10 +252,16 @@ class Camera:
     sensor_fit: int = C.FIT_AUTO
     shift_x: float = 0.0
     shift_y: float = 0.0
-    projection: int = C.CAM_PERSPECTIVE  # CAM_PERSPECTIVE or CAM_ORTHOGRAPHIC
+    projection: int = C.CAM_PERSPECTIVE  # CAM_PERSPECTIVE, CAM_ORTHOGRAPHIC or one of C.CAM_PANORAMIC
     ortho_scale: float = 6.0  # orthographic: extent of the fitted axis, m (Blender's ortho_scale)
     fstop: float = 0.0  # thin lens: f-number; 0 = pinhole (no depth of field)
     focus_distance: float = 10.0  # thin lens: distance in focus, m
+    latitude_min: float = -0.5 * math.pi  # equirectangular: rad
+    latitude_max: float = 0.5 * math.pi
+    longitude_min: float = -math.pi
+    longitude_max: float = math.pi
+    fisheye_fov: float = math.pi  # fisheye: field of view, rad
+    fisheye_lens_mm: float = 10.5  # equisolid fisheye: focal length, mm
 
 
 @dataclass
@@ -287,7 +298,7 @@ class RenderSettings:
     filter: int = C.FILTER_BLACKMAN_HARRIS  # FILTER_* (pixel filter, Cycles' default)
     filter_width: float = 1.5  # pixels
     time_limit: float = 0.0  # seconds; 0 = none
-    noise_target: float = 0.0  # stop when the relative standard error of luminance is below; 0 = none
+    noise_target: float = 0.0  # stop when 95 % of pixels' relative standard errors of luminance are below; 0 = none
     next_event: bool = True  # False: the naive reference integrator (BSDF sampling only, no NEE, no MIS)
     colour_space: str = "rec709"  # output colour space of the image: 'rec709', 'acescg' or 'xyz' (core.film)
     observer: str = "1931"  # CIE observer of the film's XYZ: '1931' (2°) or '1964' (10°); photometry is V(λ)
@@ -613,8 +624,15 @@ def _validate_camera(cam):
     _check_number("camera.projection", cam.projection, integer=True)
     if cam.sensor_fit not in (C.FIT_AUTO, C.FIT_HORIZONTAL, C.FIT_VERTICAL):
         _fail("camera.sensor_fit", f"unknown sensor fit {cam.sensor_fit}")
-    if isinstance(cam.projection, bool) or cam.projection not in (C.CAM_PERSPECTIVE, C.CAM_ORTHOGRAPHIC):
-        _fail("camera.projection", f"unknown projection {cam.projection} (0 perspective, 1 orthographic)")
+    if isinstance(cam.projection, bool) or cam.projection not in C.CAM_PROJECTIONS:
+        _fail("camera.projection", f"unknown projection {cam.projection} (0 perspective, 1 orthographic, "
+                                   "2 equirectangular, 3 equidistant fisheye, 4 equisolid fisheye)")
+    _check_number("camera.latitude_min", cam.latitude_min, lo=-0.5 * math.pi - 1e-6, hi=0.5 * math.pi + 1e-6)
+    _check_number("camera.latitude_max", cam.latitude_max, lo=-0.5 * math.pi - 1e-6, hi=0.5 * math.pi + 1e-6)
+    _check_number("camera.longitude_min", cam.longitude_min, lo=-math.pi - 1e-6, hi=math.pi + 1e-6)
+    _check_number("camera.longitude_max", cam.longitude_max, lo=-math.pi - 1e-6, hi=math.pi + 1e-6)
+    _check_number("camera.fisheye_fov", cam.fisheye_fov, lo=1e-6, hi=10.0 * math.pi + 1e-6)
+    _check_number("camera.fisheye_lens_mm", cam.fisheye_lens_mm, lo=1e-3, hi=1e6)
     _check_number("camera.ortho_scale", cam.ortho_scale, lo=1e-9, hi=1e9)
     _check_number("camera.fstop", cam.fstop, lo=0.0, hi=1e6)
     _check_number("camera.focus_distance", cam.focus_distance, lo=1e-6, hi=1e12)

@@ -163,8 +163,28 @@ def test_orthographic_camera(ext, bpy):
     b.scene.unit_settings.scale_length = 0.5
     assert export_camera(ext, bpy)[0].ortho_scale == pytest.approx(2.0)
     cam.data.type = "PANO"
-    with pytest.raises(ext.export.ExportError, match="perspective and orthographic"):
+    cam.data.panorama_type = "MIRRORBALL"
+    with pytest.raises(ext.export.ExportError, match="panorama type mirrorball is not supported"):
         export_camera(ext, bpy)
+
+
+@pytest.mark.parametrize("kind", ["EQUIRECTANGULAR", "FISHEYE_EQUIDISTANT", "FISHEYE_EQUISOLID"])
+def test_panoramic_camera_exports_cycles_parameters(ext, bpy, kind):
+    b = ext.build
+    cam = b.camera(location=(0, -5, 1), rotation=(math.radians(90), 0, 0))
+    d = cam.data
+    d.type, d.panorama_type = "PANO", kind
+    d.latitude_min, d.latitude_max, d.longitude_min, d.longitude_max = -0.4, 1.2, -2.0, 2.5
+    d.fisheye_fov, d.fisheye_lens = 3.5, 8.0
+    d.dof.use_dof, d.dof.aperture_fstop = True, 2.8
+    b.resolution(32, 16)
+    c, ctx = export_camera(ext, bpy)
+    K = ext.core.constants
+    assert c.projection == {"EQUIRECTANGULAR": K.CAM_EQUIRECTANGULAR, "FISHEYE_EQUIDISTANT": K.CAM_FISHEYE_EQUIDISTANT,
+                            "FISHEYE_EQUISOLID": K.CAM_FISHEYE_EQUISOLID}[kind]
+    assert (c.latitude_min, c.latitude_max, c.longitude_min, c.longitude_max) == pytest.approx((-0.4, 1.2, -2.0, 2.5))
+    assert (c.fisheye_fov, c.fisheye_lens_mm) == pytest.approx((3.5, 8.0))
+    assert c.fstop == 0.0 and "depth of field of a panoramic camera ignored" in (ctx.warning() or "")
 
 
 def test_depth_of_field(ext, bpy):

@@ -139,7 +139,7 @@ def test_blackman_harris_widens_an_edge_as_predicted():
         assert lum[i] == pytest.approx(exp, abs=0.03), (i, lum[i], exp)
 
 
-@pytest.mark.parametrize("field, value", [("projection", 2), ("ortho_scale", 0.0), ("ortho_scale", float("nan")),
+@pytest.mark.parametrize("field, value", [("projection", 5), ("ortho_scale", 0.0), ("ortho_scale", float("nan")),
                                           ("fstop", -1.0), ("focus_distance", 0.0)])
 def test_camera_fields_are_validated(field, value):
     sc = light_scene([facing_camera(C.LIGHT_RECT, (0, 0), 1, 1, 0)], down_camera(4, 4))

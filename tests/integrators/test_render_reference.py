@@ -233,3 +233,28 @@ def test_next_event_must_be_a_boolean():
     sc.settings.next_event = "yes"
     with pytest.raises(core.SceneError, match="settings.next_event"):
         core.validate(sc)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("projection", [C.CAM_EQUIRECTANGULAR, C.CAM_FISHEYE_EQUISOLID])
+def test_panoramic_camera_agrees_with_the_reference(projection):
+    """The plastic Cornell box seen from its middle through a panoramic camera (the reference's
+    own panoramic rays): the same pixel integrals, black outside the fisheye's circle (and
+    where the box is open, behind the camera)."""
+    def scene(spp, seed):
+        sc = cornell_plastic(spp, seed)
+        cam = sc.camera
+        cam.to_world = cam.to_world.copy()
+        pts = np.concatenate([m.positions for m in sc.meshes])
+        cam.to_world[:3, 3] = 0.5 * (pts.min(axis=0) + pts.max(axis=0))  # in the middle of the box
+        cam.width, cam.height = (32, 16) if projection == C.CAM_EQUIRECTANGULAR else (12, 12)
+        cam.projection, cam.fisheye_fov, cam.fisheye_lens_mm = projection, np.radians(200.0), 8.0
+        return sc
+
+    ref = render_reference(scene(1024, 0), spp=1024, seed=1013)
+    film, _ = core.render(scene(256, 1), threads=2)
+    full = film.develop()
+    if projection == C.CAM_FISHEYE_EQUISOLID:
+        assert np.all(ref.luminance[0, :2] == 0.0) and np.all(full.luminance[0, :2] == 0.0)  # corners
+    bad, stats = _disagreements(full, ref)
+    assert not bad, (bad, stats)

@@ -23,6 +23,14 @@ Conventions (those the contract states, as Blender has them):
   Gaussian: σ = width/6 truncated at ±width/2; Blackman–Harris: the 4-term window over
   the width (F. J. Harris 1978). The last two are sampled by inverting their cdf,
   tabulated here on a fine grid.
+* Panoramic projections (Cycles'): the film position gives (u, v) = (fx / W, 1 − fy / H)
+  plus the lens shift. Equirectangular: latitude = lat_min + v (lat_max − lat_min) and
+  longitude = lon_min + u (lon_max − lon_min) (0 along −z, positive towards +x), the
+  direction (cos lat sin lon, sin lat, −cos lat cos lon). Fisheyes: the angle θ from −z
+  with the image position's azimuth; equidistant θ = fov/2 · |(2u − 1, 2v − 1)| (no ray
+  past 1), equisolid θ = 2 asin(r / 2f) with r the position on the sensor in mm (the
+  fitted axis of the sensor keeps its size, the other follows the aspect; no ray past the
+  field of view). No ray: a zero direction. No depth of field.
 """
 import numpy as np
 
@@ -91,12 +99,45 @@ class CameraModel:
         self.lens_radius = 0.001 * cam.lens_mm / (2.0 * cam.fstop) if cam.fstop > 0 else 0.0
         self.focus = float(cam.focus_distance)
         self.filter = PixelFilter(settings.filter, settings.filter_width)
+        self.pano = cam.projection if cam.projection in C.CAM_PANORAMIC else None
+        if self.pano is not None:
+            self.lens_radius = 0.0
+            self.shift = (float(cam.shift_x), float(cam.shift_y))
+            self.lat = (cam.latitude_min, cam.latitude_max)
+            self.lon = (cam.longitude_min, cam.longitude_max)
+            self.fov, self.flens = float(cam.fisheye_fov), float(cam.fisheye_lens_mm)
+            sw, sh = (size, size * h / w) if (w > h if fit == C.FIT_AUTO else horizontal) else (size * w / h, size)
+            self.sensor = (sw, sh)
+
+    def panorama(self, fx, fy):
+        """Camera-space unit directions (N, 3) of film positions of a panoramic camera (zero: no ray)."""
+        u = fx / self.width + self.shift[0]
+        v = 1.0 - fy / self.height + self.shift[1]
+        if self.pano == C.CAM_EQUIRECTANGULAR:
+            lat = self.lat[0] + v * (self.lat[1] - self.lat[0])
+            lon = self.lon[0] + u * (self.lon[1] - self.lon[0])
+            return np.stack([np.cos(lat) * np.sin(lon), np.sin(lat), -np.cos(lat) * np.cos(lon)], axis=1)
+        if self.pano == C.CAM_FISHEYE_EQUIDISTANT:
+            a, b = 2 * u - 1, 2 * v - 1
+            r = np.hypot(a, b)
+            ok = r <= 1.0
+            theta = r * self.fov / 2
+        else:
+            a, b = (u - 0.5) * self.sensor[0], (v - 0.5) * self.sensor[1]
+            r = np.hypot(a, b)
+            ok = r <= 2 * self.flens * np.sin(self.fov / 4)
+            theta = 2 * np.arcsin(np.minimum(r / (2 * self.flens), 1.0))
+        az = np.arctan2(b, a)
+        d = np.stack([np.sin(theta) * np.cos(az), np.sin(theta) * np.sin(az), -np.cos(theta)], axis=1)
+        return np.where(ok[:, None], d, 0.0)
 
     def rays(self, px, py, rng):
         """World-space rays (origins (N, 3), unit directions (N, 3)) for pixels (px, py)."""
         n = px.shape[0]
         fx = px + 0.5 + self.filter.offsets(rng.random(n))
         fy = py + 0.5 + self.filter.offsets(rng.random(n))
+        if self.pano is not None:
+            return np.broadcast_to(self.pos, (n, 3)).copy(), self.panorama(fx, fy) @ self.rot.T
         sx = (2.0 * fx / self.width - 1.0) * self.half_w + self.off_x
         sy = (1.0 - 2.0 * fy / self.height) * self.half_h + self.off_y
         o = np.zeros((n, 3))

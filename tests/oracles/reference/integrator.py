@@ -204,7 +204,10 @@ def _render(scene, spp, seed, batches, wavelengths, groups, rr_start):
         rad = np.zeros((n, K))
         beta = np.ones((n, K))
         idx = np.arange(n)  # the live paths
-        skip = np.full(n, -1, np.int64)
+        seen = np.any(d != 0.0, axis=1)  # a fisheye's pixels outside its circle see nothing
+        if not seen.all():
+            idx, o, d, beta = idx[seen], o[seen], d[seen], beta[seen]
+        skip = np.full(idx.size, -1, np.int64)
         for depth in range(max_depth + 2):
             c = grp_all[idx]
             t, tri = tris.intersect(o, d, skip)

@@ -30,6 +30,16 @@ def status_line(state=STATE):
     return _status_line(state)
 
 
+def dropped_samples_warning(stats):
+    """The warning for the samples a render left out of their pixels for not being finite
+    (``RenderStats.dropped_samples``, which validated input cannot make); None when there are none."""
+    n = int(getattr(stats, "dropped_samples", 0) or 0)
+    if n <= 0:
+        return None
+    was = "was" if n == 1 else "were"
+    return f"{n} sample{'' if n == 1 else 's'} {was} not finite (NaN or Inf) and {was} left out of their pixels"
+
+
 class RenderJob(BackgroundJob):
     """One render of an exported core scene into the image ``image_name``."""
 
@@ -145,6 +155,15 @@ class RenderJob(BackgroundJob):
     @property
     def cancelled(self):
         return bool(self.stats is not None and self.stats.cancelled)
+
+    @property
+    def dropped_warning(self):
+        """The warning for samples the render left out for not being finite, or None."""
+        return dropped_samples_warning(self.stats)
+
+    def message(self):
+        dropped = self.dropped_warning
+        return self.summary() + (f" | {dropped}" if dropped else "")
 
     def summary(self):
         if self.error is not None:
@@ -312,5 +331,9 @@ def render_with_engine(engine, depsgraph):
         engine.update_stats("Spectral GI", text)
         if STATE.illuminance is not None:
             text += " | " + sensor_report(STATE.illuminance)
+        dropped = dropped_samples_warning(stats)
+        if dropped:
+            engine.report({"WARNING"}, f"Spectral GI: {dropped}")
+            text += " | " + dropped
         STATE.message = text
         STATE.engine_stats = stats  # the last engine render's RenderStats (spectral-gi render-blend reports them)

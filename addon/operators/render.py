@@ -48,4 +48,6 @@ class SPECTRALGI_OT_render(ModalJobOperator, bpy.types.Operator):
             self.report({"ERROR"}, f"Spectral GI: {job.summary()}")
             return {"CANCELLED"}
         self.report({"INFO"}, f"Spectral GI: {job.summary()}")
+        if job.dropped_warning:
+            self.report({"WARNING"}, f"Spectral GI: {job.dropped_warning}")
         return {"FINISHED"}

@@ -218,3 +218,54 @@ def test_the_modal_operator_polls_the_worker_and_esc_cancels(ext, bpy):
     assert ext.render_job.STATE.phase == "Finished" and not ext.render_job.STATE.running
     assert op.reports[-1][1].startswith("Spectral GI: Cancelled after")
 
+
+def test_samples_that_are_not_finite_are_reported(ext, bpy, monkeypatch, tmp_path):
+    """A render whose statistics count dropped samples (validated input cannot make one, so core's
+    statistics are given the count) says so: Render GI and F12 warn, the panel's message tells."""
+    import dataclasses
+
+    real_render = ext.core.render
+    say = ext.render_job.dropped_samples_warning
+    assert say(ext.core.RenderStats(4, 1.0, 1.0, False, 0.0, 0.0)) is None
+    one = say(ext.core.RenderStats(4, 1.0, 1.0, False, 0.0, 0.0, dropped_samples=1))
+    assert one == "1 sample was not finite (NaN or Inf) and was left out of their pixels"
+
+    def render(scene, **kw):
+        film, stats = real_render(scene, **kw)
+        return film, dataclasses.replace(stats, dropped_samples=3)
+
+    monkeypatch.setattr(ext.core, "render", render)
+    b = ext.build
+    small_scene(b, bpy)
+    warning = "3 samples were not finite (NaN or Inf) and were left out of their pixels"
+
+    op = _render_modal(ext)()
+    assert op.execute(bpy.context) == {"FINISHED"}
+    assert ({"WARNING"}, f"Spectral GI: {warning}") in op.reports
+    assert op._job is None and ext.render_job.current_job().dropped_warning == warning
+    assert ext.render_job.STATE.message.endswith(" | " + warning)
+    check_image(b, bpy, 32, 24)
+
+    # F12: the engine's reports, seen through a stand-in that hands everything else to the engine
+    engine_mod = importlib.import_module(ext.module.__name__ + ".addon.engine")
+    real_loop, reports = engine_mod.render_with_engine, []
+
+    class Engine:
+        def __init__(self, engine):
+            self._engine = engine
+
+        def __getattr__(self, name):
+            return getattr(self._engine, name)
+
+        def report(self, kind, text):
+            reports.append((set(kind), text))
+            self._engine.report(kind, text)
+
+    monkeypatch.setattr(engine_mod, "render_with_engine", lambda engine, depsgraph: real_loop(Engine(engine),
+                                                                                            depsgraph))
+    b.scene.render.engine = "SPECTRAL_GI"
+    b.scene.render.filepath = str(tmp_path / "f12.png")
+    assert bpy.ops.render.render(write_still=True) == {"FINISHED"}
+    assert ({"WARNING"}, f"Spectral GI: {warning}") in reports
+    assert ext.render_job.STATE.engine_stats.dropped_samples == 3
+    assert ext.render_job.STATE.message.endswith(" | " + warning)

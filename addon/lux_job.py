@@ -1,5 +1,5 @@
 """Illuminance jobs: ``core.point_illuminance`` on the calculation surfaces, on a worker thread
-(or on the calling thread), with progress and cancel, as the render job (``render_job``).
+(or on the calling thread), with progress and cancel: a ``jobs.BackgroundJob``, as the render job.
 
 The worker thread never touches bpy: the operator builds the surfaces and exports the scene
 on the main thread, the worker only calls core, and the main thread stores the results
@@ -9,14 +9,15 @@ nothing, so the results of an earlier calculation stay as they were.
 Each surface's points go to core in one call, so its values are those core gives for the
 same points, seed and samples (bit-identical for any number of threads).
 """
-import threading
 import time
-import traceback
 
-from .render_job import JobState, status_line
+from .jobs import BackgroundJob, JobSlot, status_line
 
-STATE = JobState()  # what the panel and the status bar show about the current (or last) calculation
-_current = None
+SLOT = JobSlot()
+STATE = SLOT.state  # what the panel and the status bar show about the current (or last) calculation
+current_job = SLOT.current
+busy = SLOT.busy  # True while an illuminance job runs
+cancel_current = SLOT.cancel  # stop a running job (the add-on is unregistered); cancel_current(wait=seconds)
 
 
 class SurfaceTask:
@@ -34,53 +35,29 @@ class SurfaceTask:
         return self.surface.n_points * self.spp
 
 
-def current_job():
-    return _current
-
-
-def busy():
-    """True while an illuminance job runs."""
-    job = _current
-    if job is None or job.concluded:
-        return False
-    if job.thread is not None:
-        return job.thread.is_alive()
-    return STATE.running
-
-
 def lux_status_line():
     return status_line(STATE)
 
 
-class LuxJob:
+class LuxJob(BackgroundJob):
     """The illuminance at every task's points in one exported core scene."""
 
+    slot = SLOT
+    thread_name = "spectral-gi-lux"
     on_progress = None  # optional method (done, total) called on the worker thread after each batch
 
     def __init__(self, scene, tasks, threads=0, luminaires=()):
+        super().__init__()
         self.scene = scene
         self.tasks = list(tasks)
         self.threads = int(threads) if threads else None
         self.luminaires = list(luminaires)
         self.results = {}  # task name → (lux (N,), std_error (N,), samples used (N,))
         self.unlit = {}  # task name → core.unlit_points(...) of its result
-        self.cancel_requested = False
-        self.error = None
-        self.traceback = None
-        self.finished = False
-        self.concluded = False
-        self.thread = None
         self.seconds = 0.0
         self.total = sum(t.samples for t in self.tasks)
 
-    # ------------------------------------------------------------------ callbacks (any thread)
-
-    def should_cancel(self):
-        return self.cancel_requested
-
-    def request_cancel(self):
-        self.cancel_requested = True
-        STATE.cancelling = True
+    # ------------------------------------------------------------------ worker (any thread)
 
     def _run(self):
         t0 = time.monotonic()
@@ -109,53 +86,25 @@ class LuxJob:
                 self.unlit[task.name] = unlit_points(self.scene, s.points, s.normals, e, se)
                 offset += task.samples
         except Exception as exc:  # reported by the operator on the main thread
-            self.error = f"{type(exc).__name__}: {exc}"
-            self.traceback = traceback.format_exc()
+            self._capture(exc)
         finally:
             self.seconds = time.monotonic() - t0
             self.finished = True
 
     # ------------------------------------------------------------------ main thread
 
-    def _begin(self):
-        global _current
-        _current = self
-        STATE.begin(self.total)
-        STATE.phase = "Illuminance"
+    def _total(self):
+        return self.total
 
-    def start(self):
-        """Calculate on a worker thread; call :meth:`poll` from the main thread until it returns True."""
-        self._begin()
-        self.thread = threading.Thread(target=self._run, name="spectral-gi-lux", daemon=True)
-        self.thread.start()
+    def _begin(self):
+        super()._begin()
+        STATE.phase = "Illuminance"
 
     def run_sync(self):
         """Calculate on the calling thread."""
         self._begin()
         self._run()
         self.conclude()
-
-    def poll(self):
-        """True once the job has finished (and is concluded)."""
-        if not self.finished:
-            return False
-        if self.thread is not None:
-            self.thread.join(timeout=1.0)
-        self.conclude()
-        return True
-
-    def conclude(self):
-        if self.concluded:
-            return
-        self.concluded = True
-        STATE.running = False
-        STATE.cancelling = False
-        STATE.message = self.summary()
-        STATE.phase = "Failed" if self.error else ("Cancelled" if self.cancelled else "Finished")
-
-    @property
-    def cancelled(self):
-        return self.cancel_requested and self.error is None
 
     def summary(self):
         if self.error is not None:
@@ -164,13 +113,3 @@ class LuxJob:
             return f"Cancelled after {self.seconds:.1f} s; the earlier results are kept"
         n = sum(t.surface.n_points for t in self.tasks)
         return f"{len(self.tasks)} surface(s), {n} points in {self.seconds:.1f} s"
-
-
-def cancel_current(wait=0.0):
-    """Ask a running job to stop (used when the add-on is unregistered); optionally wait for its thread."""
-    job = _current
-    if job is None:
-        return
-    job.request_cancel()
-    if wait and job.thread is not None:
-        job.thread.join(timeout=wait)

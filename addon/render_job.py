@@ -13,82 +13,47 @@ import traceback
 from .export import ExportCancelled, export_scene
 from .imageio import (RESULT_IMAGE, enabled_passes, illuminance_pass, pass_arrays, sensors_enabled, write_result_passes,
                       write_rgb)
+from .jobs import BackgroundJob, JobSlot, status_line as _status_line
 from .properties.scene import COLOUR_OUTPUT_PASS
 
 DISPLAY_INTERVAL = 1.0  # seconds between progressive updates of the result image
 
-
-class JobState:
-    """What the UI shows about the current (or last) render. Written by callbacks, read by the UI."""
-
-    def __init__(self):
-        self.running = False
-        self.phase = ""
-        self.done = 0
-        self.total = 0
-        self.rate = 0.0  # samples (camera paths) per second
-        self.started = 0.0
-        self.cancelling = False
-        self.message = ""  # outcome of the last render
-        self.illuminance = None  # core IlluminanceStats.as_dict() of the last sensor render (Em, Emin, …, lux)
-
-    def begin(self, total):
-        self.running = True
-        self.phase = "Starting"
-        self.done = 0
-        self.total = int(total)
-        self.rate = 0.0
-        self.started = time.monotonic()
-        self.cancelling = False
-        self.message = ""
-
-
-STATE = JobState()
-_current = None  # the RenderJob in progress (or the last one)
-
-
-def current_job():
-    return _current
-
-
-def busy():
-    """True while a render job runs (worker thread alive or a synchronous render in progress)."""
-    job = _current
-    if job is None or job.concluded:
-        return False
-    if job.thread is not None:
-        return job.thread.is_alive()
-    return STATE.running
+SLOT = JobSlot()
+STATE = SLOT.state  # what the panel and the status bar show about the current (or last) render
+current_job = SLOT.current  # the RenderJob in progress (or the last one)
+busy = SLOT.busy  # True while a render job runs (worker thread alive or a synchronous render in progress)
+cancel_current = SLOT.cancel  # stop a running job (the add-on is unregistered); cancel_current(wait=seconds)
 
 
 def status_line(state=STATE):
     """One line for the status bar: phase, samples done/total, speed, cancel hint."""
-    parts = [f"Spectral GI: {state.phase or 'Rendering'}"]
-    if state.total:
-        parts.append(f"{state.done}/{state.total} samples")
-    if state.rate > 0.0:
-        parts.append(f"{state.rate / 1e6:.2f} M samples/s")
-    if state.running:
-        parts.append("Cancelling…" if state.cancelling else "Esc to cancel")
-    return " | ".join(parts)
+    return _status_line(state)
 
 
-class RenderJob:
+def dropped_samples_warning(stats):
+    """The warning for the samples a render left out of their pixels for not being finite
+    (``RenderStats.dropped_samples``, which validated input cannot make); None when there are none."""
+    n = int(getattr(stats, "dropped_samples", 0) or 0)
+    if n <= 0:
+        return None
+    was = "was" if n == 1 else "were"
+    return f"{n} sample{'' if n == 1 else 's'} {was} not finite (NaN or Inf) and {was} left out of their pixels"
+
+
+class RenderJob(BackgroundJob):
     """One render of an exported core scene into the image ``image_name``."""
 
+    slot = SLOT
+    thread_name = "spectral-gi-render"
+
     def __init__(self, scene, threads=0, image_name=RESULT_IMAGE):
+        super().__init__()
         self.scene = scene
         self.threads = int(threads) if threads else None
         self.image_name = image_name
-        self.cancel_requested = False
         self.passes = 0
         self.film = None
         self.stats = None
-        self.error = None
-        self.traceback = None
-        self.finished = False
-        self.concluded = False
-        self.thread = None
         self._lock = threading.Lock()
         self._pending = None  # latest film copy not yet shown
         self._last_copy = -1e9
@@ -96,13 +61,6 @@ class RenderJob:
         self._shown_spp = 0
 
     # ------------------------------------------------------------------ callbacks (any thread)
-
-    def should_cancel(self):
-        return self.cancel_requested
-
-    def request_cancel(self):
-        self.cancel_requested = True
-        STATE.cancelling = True
 
     def _status(self, text):
         STATE.phase = str(text)
@@ -121,6 +79,9 @@ class RenderJob:
                 self._pending = copy
             self._last_copy = now
 
+    def _worker_args(self):
+        return (self._on_pass,)
+
     def _run(self, on_pass):
         try:
             from ..core import render
@@ -129,24 +90,14 @@ class RenderJob:
                                            should_cancel=self.should_cancel, on_pass=on_pass,
                                            status=self._status)
         except Exception as exc:  # reported by the operator on the main thread
-            self.error = f"{type(exc).__name__}: {exc}"
-            self.traceback = traceback.format_exc()
+            self._capture(exc)
         finally:
             self.finished = True
 
     # ------------------------------------------------------------------ main thread
 
-    def _begin(self):
-        global _current
-        _current = self
-        STATE.begin(self.scene.settings.spp)
-
-    def start(self):
-        """Render on a worker thread; call :meth:`poll` from the main thread until it returns True."""
-        self._begin()
-        self.thread = threading.Thread(target=self._run, args=(self._on_pass,), name="spectral-gi-render",
-                                       daemon=True)
-        self.thread.start()
+    def _total(self):
+        return self.scene.settings.spp
 
     def run_sync(self):
         """Render on the calling (main) thread, updating the image as passes complete."""
@@ -177,39 +128,24 @@ class RenderJob:
         self._shown_spp = film.spp
         return img
 
-    def poll(self):
-        """Main thread, from a timer: update the image; True once the job has finished and concluded."""
-        if not self.finished:
-            self.display_pending()
-            return False
-        if self.thread is not None:
-            self.thread.join(timeout=1.0)
-        self.conclude()
-        return True
+    def _while_running(self):
+        self.display_pending()
 
-    def conclude(self):
-        """Show the final (or last partial) film and update the UI state. Idempotent. Returns the image."""
-        if self.concluded:
-            return self.result_image()
-        self.concluded = True
-        img = None
-        try:
-            film = self.film
-            if film is None:
-                with self._lock:
-                    film, self._pending = self._pending, None
-            if film is not None and film.spp > 0:
-                img = self._show(film)
-        except Exception as exc:
-            if self.error is None:
-                self.error = f"{type(exc).__name__}: {exc}"
-                self.traceback = traceback.format_exc()
-        finally:
-            STATE.running = False
-            STATE.cancelling = False
-            STATE.message = self.summary()
-            STATE.phase = "Finished" if self.error is None else "Failed"
-        return img
+    def _hand_over(self):
+        """Show the final (or last partial) film. Returns the image."""
+        film = self.film
+        if film is None:
+            with self._lock:
+                film, self._pending = self._pending, None
+        if film is not None and film.spp > 0:
+            return self._show(film)
+        return None
+
+    def _concluded(self):
+        return self.result_image()
+
+    def end_phase(self):
+        return "Finished" if self.error is None else "Failed"  # a cancelled render says so in its message
 
     def result_image(self):
         import bpy
@@ -219,6 +155,15 @@ class RenderJob:
     @property
     def cancelled(self):
         return bool(self.stats is not None and self.stats.cancelled)
+
+    @property
+    def dropped_warning(self):
+        """The warning for samples the render left out for not being finite, or None."""
+        return dropped_samples_warning(self.stats)
+
+    def message(self):
+        dropped = self.dropped_warning
+        return self.summary() + (f" | {dropped}" if dropped else "")
 
     def summary(self):
         if self.error is not None:
@@ -231,16 +176,6 @@ class RenderJob:
             return f"Cancelled after {st.spp} of {total} samples ({st.seconds:.1f} s)"
         return (f"Rendered {st.spp} samples in {st.seconds:.1f} s "
                 f"({st.samples_per_second / 1e6:.2f} M samples/s)")
-
-
-def cancel_current(wait=0.0):
-    """Ask a running job to stop (used when the add-on is unregistered); optionally wait for its thread."""
-    job = _current
-    if job is None:
-        return
-    job.request_cancel()
-    if wait and job.thread is not None:
-        job.thread.join(timeout=wait)
 
 
 # ----------------------------------------------------------------------------- the RenderEngine's loop
@@ -396,5 +331,9 @@ def render_with_engine(engine, depsgraph):
         engine.update_stats("Spectral GI", text)
         if STATE.illuminance is not None:
             text += " | " + sensor_report(STATE.illuminance)
+        dropped = dropped_samples_warning(stats)
+        if dropped:
+            engine.report({"WARNING"}, f"Spectral GI: {dropped}")
+            text += " | " + dropped
         STATE.message = text
         STATE.engine_stats = stats  # the last engine render's RenderStats (spectral-gi render-blend reports them)

@@ -31,11 +31,11 @@ import time
 import bpy
 
 from .. import render_job
+from ..jobs import ModalJobOperator, redraw
 
 SIDE_BY_SIDE_IMAGE = "Spectral GI vs Cycles"
 DELTA_E_IMAGE = "Spectral GI ΔE00"
 CYCLES_FILTERS = {"BOX": "BOX", "BLACKMAN_HARRIS": "BLACKMAN_HARRIS", "GAUSSIAN": "GAUSSIAN"}
-TIMER_STEP = 0.2  # seconds between steps of the interactive comparison
 JOB_START_GRACE = 2.0  # seconds a Cycles render job may take to show up as running
 
 RUNNING, FINISHED, CANCELLED, FAILED = "RUNNING", "FINISHED", "CANCELLED", "FAILED"
@@ -443,6 +443,13 @@ class ComparisonRun:
         if self.job is not None and self.phase == "spectral":
             self.job.request_cancel()
 
+    def poll(self):
+        """One step (:meth:`step`) from the operator's timer: True once the run has ended."""
+        return self.step() != RUNNING
+
+    def status_line(self):
+        return render_job.status_line()
+
     def step(self):
         """Advance the run by one non-blocking step; returns RUNNING, FINISHED, CANCELLED or FAILED."""
         if self.state != RUNNING:
@@ -525,15 +532,12 @@ class ComparisonRun:
         return state
 
 
-class SPECTRALGI_OT_compare_cycles(bpy.types.Operator):
+class SPECTRALGI_OT_compare_cycles(ModalJobOperator, bpy.types.Operator):
     """Render the scene with Spectral GI and with Cycles at matched settings; show a side-by-side image, a ΔE00 map and the numbers"""  # noqa: E501  (the tooltip)
 
     bl_idname = "spectral_gi.compare_cycles"
     bl_label = "Compare with Cycles"
     bl_options = {"REGISTER"}
-
-    _timer = None
-    _run = None
 
     @classmethod
     def poll(cls, context):
@@ -585,9 +589,8 @@ class SPECTRALGI_OT_compare_cycles(bpy.types.Operator):
 
     # ------------------------------------------------------------------ interactive (modal, nothing blocks)
 
-    def invoke(self, context, event):
-        if bpy.app.background or context.window is None:
-            return self.execute(context)  # no event loop: blocking
+    def _start(self, context):
+        """The run, begun (its Spectral GI worker started); None after reporting why it could not begin."""
         from ..export import ExportCancelled
 
         run = ComparisonRun(context.scene, context.evaluated_depsgraph_get(), use_job=True, log=self._say)
@@ -595,60 +598,24 @@ class SPECTRALGI_OT_compare_cycles(bpy.types.Operator):
             run.begin()
         except ExportCancelled:
             self.report({"INFO"}, "Spectral GI: comparison cancelled")
-            return {"CANCELLED"}
+            return None
         except Exception as exc:
             render_job.STATE.phase = ""
             self.report({"ERROR"}, f"Spectral GI: comparison failed: {type(exc).__name__}: {exc}")
-            return {"CANCELLED"}
-        if run.warning:
-            self.report({"WARNING"}, f"Spectral GI: {run.warning}")
-        self._run = run
-        wm = context.window_manager
-        self._timer = wm.event_timer_add(TIMER_STEP, window=context.window)
-        wm.modal_handler_add(self)
-        self._status(context)
-        return {"RUNNING_MODAL"}
+            return None
+        return run
 
-    def modal(self, context, event):
-        from .render import _redraw
-
-        run = self._run
-        if event.type == "ESC" and event.value == "PRESS":
-            run.request_cancel()
-            self._status(context)
-            return {"RUNNING_MODAL"}
-        if event.type != "TIMER":
-            return {"PASS_THROUGH"}
-        state = run.step()
-        _redraw(context.window_manager)
-        if state == RUNNING:
-            self._status(context)
-            return {"PASS_THROUGH"}
-        self._cleanup(context)
-        if state == FINISHED:
+    def _conclude(self, context, run):
+        redraw(context.window_manager)
+        if run.state == FINISHED:
             self._show_result(context, run.report)
             return {"FINISHED"}
-        if state == CANCELLED:
+        if run.state == CANCELLED:
             self.report({"INFO"}, f"Spectral GI: {run.error}; the last comparison is kept")
         else:
             self.report({"ERROR"}, f"Spectral GI: comparison failed: {run.error}")
         return {"CANCELLED"}
 
-    def cancel(self, context):
+    def _abandon(self, run):
         # Blender ends the modal operator (new file, quit): stop the worker, restore Cycles' settings.
-        if self._run is not None:
-            self._run.abort()
-        self._cleanup(context)
-
-    def _status(self, context):
-        from .render import _set_status
-
-        _set_status(context, render_job.status_line())
-
-    def _cleanup(self, context):
-        from .render import _set_status
-
-        if self._timer is not None:
-            context.window_manager.event_timer_remove(self._timer)
-            self._timer = None
-        _set_status(context, None)
+        run.abort()

@@ -15,6 +15,8 @@ import os
 
 import bpy
 
+from ..jobs import ModalJobOperator, redraw
+
 CHUNK = 256  # points per call of the integrator, so the UI gets progress between chunks
 ATTRIBUTE = "Spectral GI lux"
 MATERIAL = "Spectral GI False Colour"
@@ -180,7 +182,6 @@ def write_colours(obj, surface, lux_m, options=None):
 
 RESULT_KEY = "_spectral_gi_lux_result"  # ID property: the surface, per-point values and luminaires of the last result
 PLAN_SIZE = 512  # px, the longer side of the false-colour plan image
-TIMER_STEP = 0.2  # seconds between UI updates while calculating
 
 
 def store_result(obj, surface, lux0, se, used, luminaires=(), unlit=None):
@@ -407,33 +408,15 @@ def unlit_warnings(job):
 
 
 def _redraw(context):
-    from .render import _redraw as redraw
-
-    redraw(context.window_manager, ("PROPERTIES", "IMAGE_EDITOR", "VIEW_3D"))
+    redraw(context.window_manager, _LuxJobOperator.redraw_areas)
 
 
-def _set_status(context, text):
-    from .render import _set_status as set_status
-
-    set_status(context, text)
-
-
-def _busy():
-    from .. import lux_job, render_job
-
-    return lux_job.busy() or render_job.busy()
-
-
-class _LuxJobOperator:
+class _LuxJobOperator(ModalJobOperator):
     """Shared by Calculate Illuminance and Lighting Report: ``_objects`` picks the surfaces, the job runs
     (modal with a worker thread when there is a window, else on the calling thread), ``_finish`` follows."""
 
-    _timer = None
-    _job = None
-
-    @classmethod
-    def poll(cls, context):
-        return context.scene is not None and not _busy()
+    progress_bar = True
+    redraw_areas = ("PROPERTIES", "IMAGE_EDITOR", "VIEW_3D")
 
     def _objects(self, context):
         raise NotImplementedError
@@ -451,8 +434,6 @@ class _LuxJobOperator:
             traceback.print_exc()
             self.report({"ERROR"}, f"Spectral GI: cannot calculate the illuminance: {exc}")
             return None
-        if job.warning:
-            self.report({"WARNING"}, f"Spectral GI: {job.warning}")
         return job
 
     def _conclude(self, context, job):
@@ -487,63 +468,6 @@ class _LuxJobOperator:
 
     def _finish(self, context, job):
         return []
-
-    def execute(self, context):
-        job = self._prepare(context)
-        if job is None:
-            return {"CANCELLED"}
-        job.run_sync()
-        return self._conclude(context, job)
-
-    def invoke(self, context, event):
-        from .. import lux_job
-
-        if bpy.app.background or context.window is None:
-            return self.execute(context)
-        job = self._prepare(context)
-        if job is None:
-            return {"CANCELLED"}
-        self._job = job
-        job.start()
-        wm = context.window_manager
-        self._timer = wm.event_timer_add(TIMER_STEP, window=context.window)
-        wm.modal_handler_add(self)
-        wm.progress_begin(0, 1)
-        _set_status(context, lux_job.lux_status_line())
-        return {"RUNNING_MODAL"}
-
-    def modal(self, context, event):
-        from .. import lux_job
-
-        job = self._job
-        if event.type == "ESC" and event.value == "PRESS":
-            job.request_cancel()
-            _set_status(context, lux_job.lux_status_line())
-            return {"RUNNING_MODAL"}
-        if event.type != "TIMER":
-            return {"PASS_THROUGH"}
-        if not job.poll():
-            st = lux_job.STATE
-            context.window_manager.progress_update(st.done / max(st.total, 1))
-            _set_status(context, lux_job.lux_status_line())
-            _redraw(context)
-            return {"PASS_THROUGH"}
-        self._cleanup(context)
-        return self._conclude(context, job)
-
-    def cancel(self, context):
-        # Blender ends the modal operator (new file, quit): stop the worker, store nothing
-        if self._job is not None:
-            self._job.request_cancel()
-        self._cleanup(context)
-
-    def _cleanup(self, context):
-        wm = context.window_manager
-        if self._timer is not None:
-            wm.event_timer_remove(self._timer)
-            self._timer = None
-            wm.progress_end()
-        _set_status(context, None)
 
 
 class SPECTRALGI_OT_lux_calculate(_LuxJobOperator, bpy.types.Operator):

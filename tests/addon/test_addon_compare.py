@@ -314,3 +314,53 @@ def test_cancel_during_the_cycles_render_restores_cycles_and_writes_nothing(ext,
     assert not any(getattr(h, "__self__", None) is run.cycles for h in bpy.app.handlers.render_cancel)
     assert not ext.render_job.busy()
     _assert_previous_result_kept(bpy, s, tmp_path)
+
+
+def test_the_modal_operator_steps_the_run_and_esc_cancels(ext, bpy, tmp_path):
+    """The operator's modal steps (timer events, Esc) on a run, driven by hand, with Cycles on the spot."""
+    from types import SimpleNamespace
+
+    cmp = _compare_module(ext)
+    cls = cmp.SPECTRALGI_OT_compare_cycles
+
+    class Modal(cmp.ModalJobOperator):  # the operator's own methods on a stand-in instance
+        _conclude, _show_result, _abandon = cls._conclude, cls._show_result, cls._abandon
+
+        def __init__(self, run):
+            self._job, self._timer, self.reports = run, None, []
+
+        def report(self, kind, text):
+            self.reports.append((set(kind), text))
+
+    timer = SimpleNamespace(type="TIMER", value="NOTHING")
+    esc = SimpleNamespace(type="ESC", value="PRESS")
+
+    def drive(op):
+        t0 = time.monotonic()
+        while (r := op.modal(bpy.context, timer)) == {"PASS_THROUGH"}:
+            assert time.monotonic() - t0 < 600.0, f"comparison still running in phase {op._job.phase}"
+            time.sleep(0.05)
+        return r
+
+    b = ext.build
+    diffuse_scene(b, w=8, h=8, spp=4)
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    op = Modal(cmp.ComparisonRun(b.scene, depsgraph, out_dir=str(tmp_path / "done"), use_job=False).begin())
+    assert drive(op) == {"FINISHED"}
+    kinds, text = op.reports[-1]
+    assert kinds == {"INFO"} and text.startswith("Spectral GI vs Cycles: luminance ratio")
+    assert text.endswith(f"({b.scene.spectral_gi.compare_report_path})")
+
+    for name in (cmp.SIDE_BY_SIDE_IMAGE, cmp.DELTA_E_IMAGE):  # a comparison shown before, as below
+        bpy.data.images.remove(bpy.data.images[name])
+    s = b.scene.spectral_gi
+    s.samples = 100000  # far more than it can finish before Esc
+    (tmp_path / "kept").mkdir()
+    _previous_result(bpy, s, tmp_path / "kept")
+    op = Modal(cmp.ComparisonRun(b.scene, depsgraph, out_dir=str(tmp_path / "kept"), use_job=False).begin())
+    assert op.modal(bpy.context, esc) == {"RUNNING_MODAL"} and op._job.cancel_requested
+    assert drive(op) == {"CANCELLED"}
+    assert op.reports == [({"INFO"}, "Spectral GI: comparison cancelled during the Spectral GI render; the last "
+                                     "comparison is kept")]
+    assert not ext.render_job.busy()
+    _assert_previous_result_kept(bpy, s, tmp_path / "kept")

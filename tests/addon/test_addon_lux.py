@@ -466,8 +466,8 @@ def test_the_modal_operator_polls_the_worker_and_esc_cancels(ext, bpy, monkeypat
     cls = ops.SPECTRALGI_OT_lux_calculate
     reports = []
 
-    class Modal:  # the operator's own methods on a stand-in instance
-        modal, _cleanup, _conclude, _finish = cls.modal, cls._cleanup, cls._conclude, cls._finish
+    class Modal(ops._LuxJobOperator):  # the operator's own methods on a stand-in instance
+        _finish = cls._finish
 
         def __init__(self, job):
             self._job, self._timer = job, None

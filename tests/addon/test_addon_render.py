@@ -1,4 +1,5 @@
 """The Render GI operator, the render job, cancel, errors, and the Cornell box."""
+import importlib
 import math
 import time
 
@@ -155,3 +156,116 @@ def test_cornell_box(ext, bpy):
     wall_right = rgb[16:48, -8:]
     assert wall_right[..., 1].mean() > wall_right[..., 0].mean()
     assert right[..., 1].mean() / right[..., 0].mean() > 2 * left[..., 1].mean() / left[..., 0].mean()
+
+
+def _render_modal(ext):
+    """A stand-in for the Render GI operator: its own methods, its reports recorded (Blender in the
+    background sends no events and an operator instance cannot be made outside a call)."""
+    ops = importlib.import_module(ext.module.__name__ + ".addon.operators.render")
+    cls = ops.SPECTRALGI_OT_render
+
+    class Modal(ops.ModalJobOperator):
+        _prepare, _conclude = cls._prepare, cls._conclude
+
+        def __init__(self, job=None):
+            self._job, self._timer, self.reports = job, None, []
+
+        def report(self, kind, text):
+            self.reports.append((set(kind), text))
+
+    return Modal
+
+
+def _drive(bpy, op, event):
+    for _ in range(60000):
+        r = op.modal(bpy.context, event)
+        if r != {"PASS_THROUGH"}:
+            return r
+        time.sleep(0.01)
+    raise AssertionError("the render did not finish")
+
+
+def test_the_modal_operator_polls_the_worker_and_esc_cancels(ext, bpy):
+    """The operator's modal steps (timer events while the worker renders, Esc), driven by hand."""
+    from types import SimpleNamespace
+
+    b = ext.build
+    small_scene(b, bpy, spp=8)
+    modal = _render_modal(ext)
+    timer = SimpleNamespace(type="TIMER", value="NOTHING")
+    esc = SimpleNamespace(type="ESC", value="PRESS")
+    mouse = SimpleNamespace(type="MOUSEMOVE", value="NOTHING")
+
+    op = modal(ext.render_job.RenderJob(b.export(ext).scene))
+    op._job.start()
+    assert ext.render_job.busy() and not bpy.ops.spectral_gi.render.poll()
+    assert op.modal(bpy.context, mouse) == {"PASS_THROUGH"}  # other events go on to Blender
+    assert _drive(bpy, op, timer) == {"FINISHED"}
+    assert not ext.render_job.busy() and op._job.stats.spp == 8
+    assert op.reports == [({"INFO"}, f"Spectral GI: {op._job.summary()}")]
+    assert op.reports[0][1].startswith("Spectral GI: Rendered 8 samples")
+    check_image(b, bpy, 32, 24)
+
+    # Esc: the worker stops after its current pass, the partial render is the result, no error
+    small_scene(b, bpy, spp=1 << 20)
+    op = modal(ext.render_job.RenderJob(b.export(ext).scene))
+    op._job.start()
+    assert op.modal(bpy.context, esc) == {"RUNNING_MODAL"} and op._job.cancel_requested
+    assert "Cancelling…" in ext.render_job.status_line()
+    assert _drive(bpy, op, timer) == {"FINISHED"}
+    job = op._job
+    assert job.cancelled and job.error is None and job.stats.spp < 1 << 20
+    assert ext.render_job.STATE.phase == "Finished" and not ext.render_job.STATE.running
+    assert op.reports[-1][1].startswith("Spectral GI: Cancelled after")
+
+
+def test_samples_that_are_not_finite_are_reported(ext, bpy, monkeypatch, tmp_path):
+    """A render whose statistics count dropped samples (validated input cannot make one, so core's
+    statistics are given the count) says so: Render GI and F12 warn, the panel's message tells."""
+    import dataclasses
+
+    real_render = ext.core.render
+    say = ext.render_job.dropped_samples_warning
+    assert say(ext.core.RenderStats(4, 1.0, 1.0, False, 0.0, 0.0)) is None
+    one = say(ext.core.RenderStats(4, 1.0, 1.0, False, 0.0, 0.0, dropped_samples=1))
+    assert one == "1 sample was not finite (NaN or Inf) and was left out of their pixels"
+
+    def render(scene, **kw):
+        film, stats = real_render(scene, **kw)
+        return film, dataclasses.replace(stats, dropped_samples=3)
+
+    monkeypatch.setattr(ext.core, "render", render)
+    b = ext.build
+    small_scene(b, bpy)
+    warning = "3 samples were not finite (NaN or Inf) and were left out of their pixels"
+
+    op = _render_modal(ext)()
+    assert op.execute(bpy.context) == {"FINISHED"}
+    assert ({"WARNING"}, f"Spectral GI: {warning}") in op.reports
+    assert op._job is None and ext.render_job.current_job().dropped_warning == warning
+    assert ext.render_job.STATE.message.endswith(" | " + warning)
+    check_image(b, bpy, 32, 24)
+
+    # F12: the engine's reports, seen through a stand-in that hands everything else to the engine
+    engine_mod = importlib.import_module(ext.module.__name__ + ".addon.engine")
+    real_loop, reports = engine_mod.render_with_engine, []
+
+    class Engine:
+        def __init__(self, engine):
+            self._engine = engine
+
+        def __getattr__(self, name):
+            return getattr(self._engine, name)
+
+        def report(self, kind, text):
+            reports.append((set(kind), text))
+            self._engine.report(kind, text)
+
+    monkeypatch.setattr(engine_mod, "render_with_engine", lambda engine, depsgraph: real_loop(Engine(engine),
+                                                                                            depsgraph))
+    b.scene.render.engine = "SPECTRAL_GI"
+    b.scene.render.filepath = str(tmp_path / "f12.png")
+    assert bpy.ops.render.render(write_still=True) == {"FINISHED"}
+    assert ({"WARNING"}, f"Spectral GI: {warning}") in reports
+    assert ext.render_job.STATE.engine_stats.dropped_samples == 3
+    assert ext.render_job.STATE.message.endswith(" | " + warning)

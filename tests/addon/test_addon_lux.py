@@ -488,9 +488,14 @@ def test_the_modal_operator_polls_the_worker_and_esc_cancels(ext, bpy, monkeypat
             time.sleep(0.01)
         raise AssertionError("the calculation did not finish")
 
+    # the worker is held after its first batch, so that it is seen running however fast it is
+    release, progress = threading.Event(), job_mod.LuxJob.on_progress
+    monkeypatch.setattr(job_mod.LuxJob, "on_progress",
+                        lambda self, done, total: (release.wait(60), progress(self, done, total)))
     job = ops.prepare_job(bpy.context, [plane])
     job.start()
     assert job.thread is not None and job_mod.busy() and not bpy.ops.spectral_gi.lux_report.poll()
+    release.set()
     assert drive(Modal(job)) == {"FINISHED"}
     s = plane.spectral_gi_lux
     assert s.valid and not job_mod.busy() and any("Ē" in text for _k, text in reports)

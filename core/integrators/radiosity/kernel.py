@@ -19,8 +19,9 @@ one of three loops over rows of receivers (points with a normal):
   cosine-distributed direction about its normal, reaches first (-1: none, or a side that
   is not a patch): the step of the stochastic shooting solver.
 
-Random numbers are a pure function of (seed, row, sample point, column, ray), so results do
-not depend on threads or on how rows are split: the shadow rays and light samples of one
+Random numbers are a pure function of (seed, row, sample point, column, ray), the row being
+the receiver's own patch where it has one, so results do not depend on threads or on how
+rows are split or batched: the shadow rays and light samples of one
 (point, column) pair are the first points of an Owen-scrambled (0, 2)-sequence
 (core/sampling/rng.py ``sobol_pair_both``), a shot ray's four numbers independent uniforms
 (``uniform``). The kernel is serial and releases the GIL;
@@ -56,6 +57,9 @@ class PatchRecord(NamedTuple):
         front side (column 0, the side of e1 × e2 of the geometry triangle) and of its
         back (column 1); -1 where that side is not a patch.
     tri_nrm: float64 (T, 3) the geometric normals of the triangles in leaf order.
+    occ_nodes, occ_tris: the BVH that shadow rays (OP_FORM_FACTORS, OP_DIRECT) test: over
+        the scene's triangles before subdivision, which cover the same surface as the
+        patches' geometry with far fewer nodes (or the same tree as nodes, tris).
     """
 
     v0: np.ndarray
@@ -66,6 +70,8 @@ class PatchRecord(NamedTuple):
     tris: np.ndarray
     tri_patch: np.ndarray
     tri_nrm: np.ndarray
+    occ_nodes: np.ndarray
+    occ_tris: np.ndarray
 
 
 class QueryRecord(NamedTuple):
@@ -178,6 +184,7 @@ def _form_factor_row(pat, qry, r, n_vis, seed, eps, out, poly, stack):
     n_pts = qry.pts.shape[1]
     inv_k = 1.0 / n_pts
     own = qry.own[r]
+    key = own if own >= 0 else r  # a patch's row gets the same numbers however rows are batched
     for c in range(qry.cols.shape[0]):
         j = qry.cols[c]
         if j == own:
@@ -195,7 +202,7 @@ def _form_factor_row(pat, qry, r, n_vis, seed, eps, out, poly, stack):
                 ox = px + eps * nx
                 oy = py + eps * ny
                 oz = pz + eps * nz
-                ps = _seed(seed, r, s, j)
+                ps = _seed(seed, key, s, j)
                 seen = 0
                 for m in range(n_vis):
                     u, v = sobol_pair_both(np.uint64(m), ps, np.uint64(0))
@@ -207,8 +214,8 @@ def _form_factor_row(pat, qry, r, n_vis, seed, eps, out, poly, stack):
                     if d <= eps:
                         seen += 1
                         continue
-                    if not trace_occluded(ox, oy, oz, dx / d, dy / d, dz / d, 0.0, d - eps, pat.nodes, pat.tris,
-                                          stack):
+                    if not trace_occluded(ox, oy, oz, dx / d, dy / d, dz / d, 0.0, d - eps, pat.occ_nodes,
+                                          pat.occ_tris, stack):
                         seen += 1
                 f *= seen / n_vis
             acc += f
@@ -239,7 +246,7 @@ def _direct_row(pat, qry, lit, r, n_vis, seed, eps, out, stack):
                     wx = lx * tx + ly * bx + lz * nx
                     wy = lx * ty + ly * by + lz * ny
                     wz = lx * tz + ly * bz + lz * nz
-                    if not trace_occluded(ox, oy, oz, wx, wy, wz, 0.0, np.inf, pat.nodes, pat.tris, stack):
+                    if not trace_occluded(ox, oy, oz, wx, wy, wz, 0.0, np.inf, pat.occ_nodes, pat.occ_tris, stack):
                         acc += math.pi
                     continue
                 wx, wy, wz, dist, pdf, fac = sample_light(lit.kind[li], lit.geo, lit.prof, li, lit.two[li] != 0,
@@ -248,7 +255,7 @@ def _direct_row(pat, qry, lit, r, n_vis, seed, eps, out, stack):
                 if not (fac > 0.0 and pdf > 0.0 and cos_n > 0.0):
                     continue
                 tmax = dist * (1.0 - 1e-7) if dist < np.inf else np.inf
-                if trace_occluded(ox, oy, oz, wx, wy, wz, 0.0, tmax, pat.nodes, pat.tris, stack):
+                if trace_occluded(ox, oy, oz, wx, wy, wz, 0.0, tmax, pat.occ_nodes, pat.occ_tris, stack):
                     continue
                 if pdf == np.inf:
                     acc += cos_n * fac

@@ -134,17 +134,25 @@ def band_means(rows, idx, w, k):
 # ------------------------------------------------------------------------------ kernel driver
 
 def _pool_run(fn, n_rows, threads, block=None):
-    """fn(r0, r1) over [0, n_rows) in blocks, on a pool of ``threads`` threads."""
+    """fn(r0, r1) over [0, n_rows) in blocks (``block`` rows; None: about 8 per thread), on a
+    pool of ``threads`` threads. An exception in the calling thread (Ctrl-C) drops the blocks
+    not yet started, so the call ends after the blocks running."""
     if n_rows == 0:
         return
+    block = block or max(1, -(-n_rows // (8 * max(threads, 1))))
     if threads <= 1:
-        fn(0, n_rows)
+        for a in range(0, n_rows, block):
+            fn(a, min(n_rows, a + block))
         return
-    block = block or max(1, -(-n_rows // (8 * threads)))
-    with ThreadPoolExecutor(max_workers=threads, thread_name_prefix="spectral-gi-radiosity") as pool:
+    pool = ThreadPoolExecutor(max_workers=threads, thread_name_prefix="spectral-gi-radiosity")
+    try:
         futs = [pool.submit(fn, a, min(n_rows, a + block)) for a in range(0, n_rows, block)]
         for f in futs:
             f.result()
+    except BaseException:
+        pool.shutdown(wait=True, cancel_futures=True)
+        raise
+    pool.shutdown(wait=True)
 
 
 def _scratch():
@@ -152,6 +160,7 @@ def _scratch():
 
 
 _EMPTY_I = np.zeros(1, np.int32)
+ROW_BLOCK = 64
 
 
 def run_op(op, pat, qry, lit, n_out_cols, n_vis, seed, eps, threads, n_rows=None, should_cancel=None):
@@ -169,7 +178,8 @@ def run_op(op, pat, qry, lit, n_out_cols, n_vis, seed, eps, threads, n_rows=None
         K.radiosity_rays(int(op), int(r0), int(r1), pat, qry, lit, int(n_vis), int(seed), float(eps), out, hits,
                          poly, stack)
 
-    _pool_run(fn, n_rows, threads)
+    # rows of form factors or direct light in blocks of at most ROW_BLOCK (Ctrl-C and cancel act soon)
+    _pool_run(fn, n_rows, threads, None if shoot else max(1, min(ROW_BLOCK, -(-n_rows // (8 * max(threads, 1))))))
     return hits if shoot else out
 
 
@@ -186,9 +196,11 @@ def _no_lights():
     return K.LightRecord(np.zeros(0, np.int32), np.zeros((0, LG.LG_SIZE)), np.zeros(1), np.zeros(0, np.int32))
 
 
-def patch_record(corners, geometry=None, tri_patch=None):
+def patch_record(corners, geometry=None, tri_patch=None, occluders=None):
     """The kernel's PatchRecord of oriented triangles ``corners`` (n, 3, 3), occluded by
-    ``geometry`` (T, 3, 3) (default: the patches themselves, one patch per triangle)."""
+    ``geometry`` (T, 3, 3) (default: the patches themselves, one patch per triangle); shadow
+    rays test ``occluders`` (triangles covering the same surface as ``geometry``, e.g. the
+    scene's before subdivision; None: ``geometry``)."""
     corners = np.ascontiguousarray(corners, np.float64)
     if geometry is None:
         geometry = corners
@@ -201,10 +213,14 @@ def patch_record(corners, geometry=None, tri_patch=None):
     nrm = cr / np.linalg.norm(cr, axis=1, keepdims=True)
     ge = np.cross(geometry[:, 1] - geometry[:, 0], geometry[:, 2] - geometry[:, 0])
     gn = ge / np.maximum(np.linalg.norm(ge, axis=1, keepdims=True), 1e-300)
+    occ = bvh
+    if occluders is not None:
+        o = np.asarray(occluders, np.float64)
+        occ = accel.build(o[:, 0], o[:, 1], o[:, 2])
     return K.PatchRecord(np.ascontiguousarray(corners[:, 0]), np.ascontiguousarray(e1), np.ascontiguousarray(e2),
                          np.ascontiguousarray(nrm), bvh.nodes, bvh.tris,
                          np.ascontiguousarray(np.asarray(tri_patch)[bvh.prims], np.int32),
-                         np.ascontiguousarray(gn[bvh.prims]))
+                         np.ascontiguousarray(gn[bvh.prims]), occ.nodes, occ.tris)
 
 
 def sample_points(corners, n_points):
@@ -325,7 +341,9 @@ def _solve_groups(method, F, rho_b, E_b, area, tol, max_iter, weights, progress,
         wts.append(np.abs(vt[:r]) @ weights[cols])
     B = np.zeros((n, k))
     if not rhs:
-        return B, [solvers.SolveStats(method, 0, 0.0, 0.0, True, columns=0)]
+        st = solvers.SolveStats(method, 0, 0.0, 0.0, True, columns=0)
+        st.received = np.zeros((n, k)) if method == "southwell" else None
+        return B, [st]
     kw = dict(tol=tol, progress=progress, should_cancel=should_cancel)
     if max_iter is not None:
         kw["max_iter"] = max_iter
@@ -333,10 +351,14 @@ def _solve_groups(method, F, rho_b, E_b, area, tol, max_iter, weights, progress,
         kw["weights"] = np.concatenate(wts)
     X, st = solvers.solve_dense(method, F, np.concatenate(rho, axis=1), np.concatenate(rhs, axis=1), area, **kw)
     st.columns = X.shape[1]
+    recv = None if st.received is None else np.zeros((n, k))
     c0 = 0
     for cols, vt in back:
         B[:, cols] = X[:, c0:c0 + vt.shape[0]] @ vt
+        if recv is not None:
+            recv[:, cols] = st.received[:, c0:c0 + vt.shape[0]] @ vt
         c0 += vt.shape[0]
+    st.received = recv
     return B, [st]
 
 
@@ -462,7 +484,7 @@ def _solve_patches(scene, spec, cmf, patches, lit, light_bands, bidx, vw, v_band
     rho_mb = band_means(rho_m, bidx, vw, nb)
     be_mb = math.pi * band_means(le_m, bidx, vw, nb)
     eps = _eps(patches.geometry)
-    pat = patch_record(patches.corners, patches.geometry, patches.tri_patch)
+    pat = patch_record(patches.corners, patches.geometry, patches.tri_patch, patches.occluders)
     pts = sample_points(patches.corners, n_points)
     own = np.arange(patches.n, dtype=np.int32)
     # direct light from the analytic lights and the sky, which also finds the sides that see nothing
@@ -479,7 +501,7 @@ def _solve_patches(scene, spec, cmf, patches, lit, light_bands, bidx, vw, v_band
     keep = emits | lit_direct | sees_something
     if not keep.all():
         patches = patches.subset(keep)
-        pat = patch_record(patches.corners, patches.geometry, patches.tri_patch)
+        pat = patch_record(patches.corners, patches.geometry, patches.tri_patch, patches.occluders)
         pts = pts[keep]
         direct = direct[keep]
         emits = emits[keep]
@@ -500,16 +522,30 @@ def _solve_patches(scene, spec, cmf, patches, lit, light_bands, bidx, vw, v_band
             raise SceneError(f"radiosity: {n} patches need a {4 * n * n / 2 ** 30:.1f} GiB form-factor matrix; "
                              "use method='stochastic' (matrix-free) or larger patches")
         t0 = time.perf_counter()
-        qry = _query(pts, patches.normal, own, np.arange(n, dtype=np.int32))
-        F = run_op(K.OP_FORM_FACTORS, pat, qry, lit, n, n_vis, seed, eps, threads, should_cancel=should_cancel)
-        seconds["form factors"] = time.perf_counter() - t0
-        if progress is not None:
-            progress("form factors", n, n)
+        cols = np.arange(n, dtype=np.int32)
+        if method == "southwell":  # rows on demand: only the patches that shoot need theirs
+            def compute(idx):
+                q = _query(pts[idx], patches.normal[idx], own[idx], cols)
+                return run_op(K.OP_FORM_FACTORS, pat, q, lit, n, n_vis, seed, eps, threads,
+                              should_cancel=should_cancel)
+
+            F = solvers.RowCache(n, compute)
+        else:
+            F = run_op(K.OP_FORM_FACTORS, pat, _query(pts, patches.normal, own, cols), lit, n, n_vis, seed, eps,
+                       threads, should_cancel=should_cancel)
+            seconds["form factors"] = time.perf_counter() - t0
+            if progress is not None:
+                progress("form factors", n, n)
         E = be_b + rho_b * H0
         B, stats = _solve_groups(method, F, rho_b, E, patches.area, tol, max_iter, v_band,
                                  None if progress is None else (lambda i, r: progress("solve", i, r)),
                                  should_cancel)
         seconds["solve"] = sum(s.seconds for s in stats)
+        if method == "southwell":  # the rows no patch shot are computed for the gather below
+            seconds["solve"] -= F.seconds
+            F(np.nonzero(~F.have)[0])
+            seconds["form factors"] = F.seconds
+            F = F.F
         H = H0 + (F @ B.astype(np.float32)).astype(np.float64)
         Hd = H0 + (F @ be_b.astype(np.float32)).astype(np.float64)
     illum = C.K_M * (H @ v_band)

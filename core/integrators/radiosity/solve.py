@@ -37,6 +37,7 @@ materials; textures are ignored (their material's reflectance spectrum is used).
 from __future__ import annotations
 
 import math
+import threading
 import time
 import warnings
 from concurrent.futures import ThreadPoolExecutor
@@ -163,13 +164,17 @@ _EMPTY_I = np.zeros(1, np.int32)
 ROW_BLOCK = 64
 
 
-def run_op(op, pat, qry, lit, n_out_cols, n_vis, seed, eps, threads, n_rows=None, should_cancel=None):
+def run_op(op, pat, qry, lit, n_out_cols, n_vis, seed, eps, threads, n_rows=None, should_cancel=None,
+           report=None):
     """Run kernel operation ``op`` over every row of ``qry`` (or ray, for OP_SHOOT):
-    returns out float32 (R, n_out_cols), or for OP_SHOOT hits int32 (N,)."""
+    returns out float32 (R, n_out_cols), or for OP_SHOOT hits int32 (N,). ``report(done,
+    total)`` is called after each block of rows (from the worker threads, one at a time)."""
     shoot = op == K.OP_SHOOT
     n_rows = (qry.src.shape[0] if shoot else qry.pts.shape[0]) if n_rows is None else n_rows
     out = np.zeros((1, 1) if shoot else (qry.pts.shape[0], n_out_cols), np.float32)
     hits = np.full(n_rows if shoot else 1, -1, np.int32)
+    lock = threading.Lock()
+    done = [0]
 
     def fn(r0, r1):
         if should_cancel is not None and should_cancel():
@@ -177,6 +182,10 @@ def run_op(op, pat, qry, lit, n_out_cols, n_vis, seed, eps, threads, n_rows=None
         poly, stack = _scratch()
         K.radiosity_rays(int(op), int(r0), int(r1), pat, qry, lit, int(n_vis), int(seed), float(eps), out, hits,
                          poly, stack)
+        if report is not None:
+            with lock:
+                done[0] += r1 - r0
+                report(done[0], n_rows)
 
     # rows of form factors or direct light in blocks of at most ROW_BLOCK (Ctrl-C and cancel act soon)
     _pool_run(fn, n_rows, threads, None if shoot else max(1, min(ROW_BLOCK, -(-n_rows // (8 * max(threads, 1))))))
@@ -437,9 +446,11 @@ def radiosity(scene, *, max_edge=None, sides="both", method="gauss-seidel", tol=
     no occlusion, for convex rooms); n_light: samples per point per analytic light;
     rays: rays per stochastic iteration (None: 64 per patch); refine_threshold: split
     patches whose luminance differs from a neighbour's by more than this fraction and solve
-    again, up to refine_steps times, down to min_area m²; progress(stage, a, b): ("direct",
-    done, total) and ("form factors", done, total) after those stages, ("solve", iteration,
-    residual) after each iteration; should_cancel(): checked between stages,
+    again, up to refine_steps times, down to min_area m²; progress(stage, a, b):
+    ("patches", n, max_edge) once meshed, ("direct", done, total) after that stage,
+    ("form factors", rows done, rows) after each block of rows (Southwell computes its rows
+    while it solves), ("solve", iteration, residual) after each iteration (for Southwell
+    each step; iteration counts the shots); should_cancel(): checked between stages,
     blocks of rows and iterations (True: the solution so far is returned, flagged in its
     stats)."""
     from ...film.record import cmf_table
@@ -458,6 +469,8 @@ def radiosity(scene, *, max_edge=None, sides="both", method="gauss-seidel", tol=
     edges, bidx, vw, v_band, xyz_band = band_tables(cmf, band_width)
     nb = v_band.size
     patches = meshing.build_patches(scene, max_edge, sides)
+    if progress is not None:
+        progress("patches", patches.n, 0.0 if max_edge is None else float(max_edge))
     lit, light_shapes, notes = _lights(scene, spec, cmf, patches.geometry)
     light_bands = band_means(light_shapes, bidx, vw, nb)
     for step in range(int(refine_steps) + 1 if refine_threshold else 1):
@@ -532,10 +545,9 @@ def _solve_patches(scene, spec, cmf, patches, lit, light_bands, bidx, vw, v_band
             F = solvers.RowCache(n, compute)
         else:
             F = run_op(K.OP_FORM_FACTORS, pat, _query(pts, patches.normal, own, cols), lit, n, n_vis, seed, eps,
-                       threads, should_cancel=should_cancel)
+                       threads, should_cancel=should_cancel,
+                       report=None if progress is None else (lambda a, b: progress("form factors", a, b)))
             seconds["form factors"] = time.perf_counter() - t0
-            if progress is not None:
-                progress("form factors", n, n)
         E = be_b + rho_b * H0
         B, stats = _solve_groups(method, F, rho_b, E, patches.area, tol, max_iter, v_band,
                                  None if progress is None else (lambda i, r: progress("solve", i, r)),
@@ -590,31 +602,63 @@ def illuminance_at(solution, points, normals, *, direct=True, indirect=True, n_p
     return C.K_M * (H @ ctx.v_band)
 
 
-def default_max_edge(scene):
-    """The patch size a lighting analysis uses without one: 1/16 of the scene's largest extent."""
+DEFAULT_PATCHES = 2500
+
+
+def default_max_edge(scene, patches=DEFAULT_PATCHES):
+    """The patch size a lighting analysis uses without one: the largest ``max_edge`` (m) that
+    cuts the scene's triangles into at least ``patches`` pieces (one side of each; the
+    sides that see nothing are dropped in the solve, the others make about this many
+    patches), so the cost follows the scene's detail, not its size."""
     tri, _, _ = meshing.scene_triangles(scene)
     if tri.shape[0] == 0:
         raise SceneError("radiosity: the scene has no surfaces to mesh into patches")
-    return float(np.ptp(tri.reshape(-1, 3), axis=0).max()) / 16.0
+    edge = np.max(np.linalg.norm(tri - np.roll(tri, 1, axis=1), axis=2), axis=1)
+
+    def count(h):
+        return float(np.sum(np.maximum(1.0, np.ceil(edge / h - 1e-9)) ** 2))
+
+    hi = float(edge.max())
+    if count(hi) >= patches:
+        return hi
+    lo = hi / max(2.0, math.sqrt(patches))
+    while count(lo) < patches:
+        lo *= 0.5
+    for _ in range(40):  # count(lo) ≥ patches > count(hi)
+        mid = 0.5 * (lo + hi)
+        if count(mid) >= patches:
+            lo = mid
+        else:
+            hi = mid
+    return lo
 
 
-def lux_integrator(**options):
+LUX_DEFAULTS = dict(method="jacobi", n_points=1, n_vis=4, tol=1e-4)
+
+
+def lux_integrator(progress=None, should_cancel=None, **options):
     """An illuminance integrator for the lighting analysis (core/lux/calculate.py): a callable
     ``(scene, points, normals) → (lux, std_error)`` that solves the scene by :func:`radiosity`
-    with ``options`` once per scene (max_edge: default ``default_max_edge``) and gathers at the
-    points the analytic lights and emitting patches directly plus the solution's reflected
-    light (:func:`illuminance_at`). The error of radiosity is the mesh's, not sampling noise:
-    the standard errors returned are 0."""
+    with ``options`` once per scene and gathers at the points the analytic lights and
+    emitting patches directly plus the solution's reflected light (:func:`illuminance_at`).
+    Options not given take ``LUX_DEFAULTS`` (Jacobi to a residual of 1e-4, one sample point
+    per patch, four shadow rays per pair) and max_edge ``default_max_edge`` (about
+    ``DEFAULT_PATCHES`` patches). ``progress(stage, a, b)``, ``should_cancel()``: as
+    :func:`radiosity`, plus ("patches", n, max_edge) once the scene is meshed and
+    ("gather", points, 0) before the gather. The error of radiosity is the mesh's, not
+    sampling noise: the standard errors returned are 0."""
     cache = {}
 
     def integrate(scene, points, normals):
         key = id(scene)
         if key not in cache:
-            opts = dict(options)
+            opts = {**LUX_DEFAULTS, **{k: v for k, v in options.items() if v is not None}}
             if opts.get("max_edge") is None:
                 opts["max_edge"] = default_max_edge(scene)
             cache.clear()
-            cache[key] = (scene, radiosity(scene, **opts))
+            cache[key] = (scene, radiosity(scene, progress=progress, should_cancel=should_cancel, **opts))
+        if progress is not None:
+            progress("gather", int(np.asarray(points).reshape(-1, 3).shape[0]), 0)
         lux = illuminance_at(cache[key][1], points, normals)
         return lux, np.zeros_like(lux)
 

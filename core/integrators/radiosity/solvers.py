@@ -20,7 +20,8 @@ is at most ``tol``, after
 residual)`` is called after each iteration (a sweep; for the shooting solvers a block of
 shots).
 
-* ``jacobi``: B ← E + ρ F B, the Neumann series; every sweep is one matrix product.
+* ``jacobi``: B ← E + ρ F B, the Neumann series; every sweep is one matrix product
+  (which also gives the residual).
 * ``gauss_seidel``: the same update row by row, using the rows already updated; about
   half as many sweeps.
 * ``southwell``: progressive refinement (Cohen, Chen, Wallace and Greenberg 1988): the
@@ -105,11 +106,33 @@ def _loop(name, step, F, rho, E, area, tol, max_iter, progress, should_cancel):
     return B, SolveStats(name, it, res, time.perf_counter() - t0, res <= tol, cancelled)
 
 
+def _relative(area, r, B):
+    den = float(np.sum(area[:, None] * np.abs(B)))
+    return float(np.sum(area[:, None] * np.abs(r))) / den if den > 0 else 0.0
+
+
 def jacobi(F, rho, E, area=None, *, tol=1e-6, max_iter=10000, progress=None, should_cancel=None):
-    """Jacobi iteration on the radiosity system (item 61)."""
+    """Jacobi iteration on the radiosity system (item 61). The product F B of a sweep gives
+    both the next iterate and the residual of the current one, E + ρ F B − B: one matrix
+    product per sweep."""
     F, rho, E, area = _check(F, rho, E, area)
-    return _loop("jacobi", lambda B: E + rho * _matvec(F, B), F, rho, E, area, tol, max_iter, progress,
-                 should_cancel)
+    t0 = time.perf_counter()
+    B = E.copy()
+    it = 0
+    cancelled = False
+    while True:
+        nxt = E + rho * _matvec(F, B)
+        res = _relative(area, nxt - B, B)
+        if it > 0 and progress is not None:
+            progress(it, res)
+        if res <= tol or it >= max_iter:
+            break
+        if should_cancel is not None and should_cancel():
+            cancelled = True
+            break
+        B = nxt
+        it += 1
+    return B, SolveStats("jacobi", it, res, time.perf_counter() - t0, res <= tol, cancelled)
 
 
 def gauss_seidel(F, rho, E, area=None, *, tol=1e-6, max_iter=10000, progress=None, should_cancel=None):
@@ -119,10 +142,14 @@ def gauss_seidel(F, rho, E, area=None, *, tol=1e-6, max_iter=10000, progress=Non
     n = F.shape[0]
     wide = rho.shape[1] == 1
 
+    block = 256
+
     def sweep(B):
         B = B.copy()
-        for i in range(n):
-            B[i] = E[i] + (rho[i, 0] if wide else rho[i]) * (F[i].astype(np.float64) @ B)
+        for a in range(0, n, block):
+            Fb = F[a:a + block].astype(np.float64)  # converted once per block of rows
+            for i in range(a, min(n, a + block)):
+                B[i] = E[i] + (rho[i, 0] if wide else rho[i]) * (Fb[i - a] @ B)
         return B
 
     return _loop("gauss-seidel", sweep, F, rho, E, area, tol, max_iter, progress, should_cancel)

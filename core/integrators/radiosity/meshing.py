@@ -259,13 +259,15 @@ class DisplayMesh:
 
 
 def display_mesh(patches):
-    """The patches' corners welded per side (and per scene mesh triangle's plane is not
-    needed: a vertex shared by patches on different sides stays two vertices)."""
+    """The patches' corners welded per side and per facing direction: a vertex is shared by
+    the patches of one side that meet there with the same normal (one plane), so values do
+    not bleed across a crease (a block standing on the floor) or between the two sides."""
     tol = _tolerance(patches)
     pts = patches.corners.reshape(-1, 3)
     side = np.repeat(patches.side, 3).astype(np.int64)
     q = np.round(pts / tol).astype(np.int64)
-    key = np.concatenate([q, side[:, None]], axis=1)
+    facing = np.round(np.repeat(patches.normal, 3, axis=0) * 1e4).astype(np.int64)
+    key = np.concatenate([q, side[:, None], facing], axis=1)
     _, first, inv = np.unique(key, axis=0, return_index=True, return_inverse=True)
     return DisplayMesh(pts[first], inv.reshape(-1, 3).astype(np.int32), side[first].astype(np.int8))
 

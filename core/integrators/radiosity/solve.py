@@ -187,8 +187,11 @@ def run_op(op, pat, qry, lit, n_out_cols, n_vis, seed, eps, threads, n_rows=None
                 done[0] += r1 - r0
                 report(done[0], n_rows)
 
-    # rows of form factors or direct light in blocks of at most ROW_BLOCK (Ctrl-C and cancel act soon)
-    _pool_run(fn, n_rows, threads, None if shoot else max(1, min(ROW_BLOCK, -(-n_rows // (8 * max(threads, 1))))))
+    # rows of form factors or direct light in blocks of at most ROW_BLOCK (Ctrl-C and cancel act soon), and
+    # of at least a share of the rows per thread or 32 (each call of the kernel costs its dispatch)
+    t = max(threads, 1)
+    block = max(min(32, -(-n_rows // t)), min(ROW_BLOCK, -(-n_rows // (8 * t))))
+    _pool_run(fn, n_rows, threads, None if shoot else block)
     return hits if shoot else out
 
 

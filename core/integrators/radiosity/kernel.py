@@ -108,11 +108,15 @@ def _seed(seed, a, b, c):
 def ff_point_triangle(px, py, pz, nx, ny, nz, v0, e1, e2, nrm, j, poly):
     """Item 57 for patch j seen from p (unit normal n): the triangle clipped to the
     hemisphere n · (y − p) ≥ 0 (Sutherland–Hodgman into ``poly``, float64 (≥ 4, 3)), then
-    −1/(2π) Σ γ_k n · (R_k × R_k+1)/|R_k × R_k+1|. 0 when p is behind the triangle."""
+    −1/(2π) Σ γ_k n · (R_k × R_k+1)/|R_k × R_k+1|. 0 when p is behind the triangle or in
+    its plane."""
     ax = v0[j, 0] - px
     ay = v0[j, 1] - py
     az = v0[j, 2] - pz
-    if -(ax * nrm[j, 0] + ay * nrm[j, 1] + az * nrm[j, 2]) <= 0.0:
+    # in the triangle's plane (to rounding) counts as behind: a point sees a polygon in its own
+    # plane edge-on, F = 0, where the formula would give 1 for a point inside it (the patch on
+    # the other side of a receiver's own triangle)
+    if -(ax * nrm[j, 0] + ay * nrm[j, 1] + az * nrm[j, 2]) <= 1e-9 * (abs(ax) + abs(ay) + abs(az)):
         return 0.0
     m = 0
     for k in range(3):

@@ -233,7 +233,8 @@ def _parser():
                     help="path: the path tracer (default); radiosity: a radiosity solution of the scene (diffuse "
                          "materials; others replaced by their albedo), direct light gathered at each point")
     lx.add_argument("--max-edge", type=float,
-                    help="radiosity: patch size in m (default: 1/16 of the scene's largest extent)")
+                    help="radiosity: patch size in m (default: the size that cuts the scene into about 2500 "
+                         "patches)")
     s = sub.add_parser("save-default-scene", help="write the built-in Cornell box as a scene file")
     s.add_argument("out", help="output scene file (.json; the .npz is written beside it)")
     s.add_argument("--mkdir", action="store_true", help=MKDIR_HELP)
@@ -561,7 +562,8 @@ def _lux_run(args, scene, bar, done, t0, farm):
             raise SceneError("--scheduler: the radiosity method runs on this machine; leave out --scheduler")
         if args.max_edge is not None and not (args.max_edge > 0 and math.isfinite(args.max_edge)):
             raise SceneError(f"--max-edge must be a positive length in m, got {args.max_edge}")
-        estimate = lux_integrator(max_edge=args.max_edge, seed=args.seed or 0, threads=args.threads or None)
+        estimate = lux_integrator(max_edge=args.max_edge, seed=args.seed or 0, threads=args.threads or None,
+                                  progress=_RadiosityProgress(t0))
 
     if args.sensors is None:
         stem = Path(args.scene).with_suffix("").name if args.scene else args.builtin
@@ -587,6 +589,45 @@ def _warn_unlit(unlit, what):
     line = unlit.warning(UNLIT_SHOWN, what)
     if line:
         sys.stderr.write(f"warning: {line}\n")
+class _RadiosityProgress:
+    """``lux --method radiosity``: the stages of the solve on stderr, one line each (on a
+    terminal the running stage rewrites its line; otherwise at most one line every two
+    seconds per stage, and its last)."""
+
+    def __init__(self, t0, stream=sys.stderr):
+        self.t0 = t0
+        self.stream = stream
+        self.tty = stream.isatty()
+        self.stage = None
+        self.last = 0.0
+
+    def __call__(self, stage, a, b):
+        now = time.monotonic()
+        t = time.perf_counter() - self.t0
+        if stage == "patches":
+            text, final = f"radiosity: {a} patches" + (f" (max edge {b:.3g} m)" if b else ""), True
+        elif stage == "direct":
+            text, final = f"radiosity: direct light at {a} patches", True
+        elif stage == "form factors":
+            text, final = f"radiosity: form factors, {a}/{b} rows", a >= b
+        elif stage == "solve":
+            text, final = f"radiosity: solve, iteration {a}, residual {b:.3g}", False
+        else:
+            text, final = f"radiosity: {stage} at {a} points", True
+        new = stage != self.stage
+        if not (self.tty or new or final or now - self.last >= 2.0):
+            return
+        if self.tty and not new and self.stage is not None:
+            self.stream.write("\r")
+        elif self.tty and self.stage is not None:
+            self.stream.write("\n")
+        self.stream.write(f"{text}  [{t:.1f} s]" + ("" if self.tty else "\n"))
+        self.stream.flush()
+        self.stage = stage
+        self.last = now
+        if self.tty and stage == "gather":
+            self.stream.write("\n")
+            self.stage = None
 
 
 def _lux_surfaces(scene, estimate, done, out_dir, project, t0):

@@ -1,6 +1,7 @@
 """Radiosity cost against the number of patches (compendium items 58, 61, 62).
 
-    python benchmarks/radiosity_scaling.py [--dense 1000 10000] [--stochastic 1000 10000 50000]
+    python benchmarks/radiosity_scaling.py [--dense 1000 10000] [--progressive 1000 10000]
+                                           [--stochastic 1000 10000 50000]
                                            [--threads N] [--n-vis 1] [--n-points 1]
 
 The scene: a closed grey room (ρ = 0.6, 4 × 3 × 2.5 m) with a table-sized box in it
@@ -9,8 +10,11 @@ insides; the outsides see nothing and are dropped). For each N it prints the sec
 the direct light, the form factors and the solve, the peak memory NumPy allocated during
 the run (tracemalloc) and, between sizes, the growth exponent d log T / d log N:
 
-* dense (Gauss–Seidel on the stored n × n float32 form-factor matrix): form factors grow
-  as N² (every pair, shadow rays included), memory as 4 N² bytes;
+* dense (Gauss–Seidel on the stored n × n float32 form-factor matrix, to a residual of
+  1e-5): form factors grow as N² (every pair, shadow rays included), memory as 4 N² bytes;
+* progressive (Southwell shooting in batches, rows computed as patches first shoot, to an
+  unshot power of 1 % of the power leaving the patches): the rows are the same N² pairs,
+  the solve a few shots per patch;
 * stochastic (matrix-free shooting, 16 rays per patch per iteration): about N log N
   (each ray a BVH query), memory linear in N.
 
@@ -61,33 +65,39 @@ def edge_for(n):
     return math.sqrt(2.0 * 2.4 * inside_area() / n)
 
 
+TOL = {"stochastic": 1e-3, "southwell": 1e-2, "gauss-seidel": 1e-5}
+
+
 def run(n, method, threads, n_vis, n_points):
     sc = scene()
     tracemalloc.start()
     t0 = time.perf_counter()
     sol = core.radiosity(sc, max_edge=edge_for(n), method=method, n_vis=n_vis, n_points=n_points, n_light=16,
-                         rays=16 * n, tol=1e-3 if method == "stochastic" else 1e-5, threads=threads)
+                         rays=16 * n, tol=TOL[method], threads=threads)
     wall = time.perf_counter() - t0
     _, peak = tracemalloc.get_traced_memory()
     tracemalloc.stop()
     s = sol.seconds
     return dict(n=sol.patches.n, direct=s.get("direct", 0.0), ff=s.get("form factors", 0.0), solve=s.get("solve", 0.0),
                 total=wall, peak_mb=peak / 2 ** 20, iters=sum(st.iterations for st in sol.stats),
+                residual=max(st.residual for st in sol.stats),
                 mean_lux=float(np.sum(sol.patches.area * sol.illuminance) / sol.patches.area.sum()))
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--dense", type=int, nargs="*", default=[1000, 10000])
+    ap.add_argument("--progressive", type=int, nargs="*", default=[1000, 10000])
     ap.add_argument("--stochastic", type=int, nargs="*", default=[1000, 10000, 50000])
     ap.add_argument("--threads", type=int, default=None)
     ap.add_argument("--n-vis", type=int, default=1)
     ap.add_argument("--n-points", type=int, default=1)
     a = ap.parse_args()
     run(200, "gauss-seidel", a.threads, a.n_vis, a.n_points)  # compiles the kernel (first run only)
+    run(200, "southwell", a.threads, a.n_vis, a.n_points)
     run(200, "stochastic", a.threads, a.n_vis, a.n_points)
     tables = []
-    for method, sizes in (("gauss-seidel", a.dense), ("stochastic", a.stochastic)):
+    for method, sizes in (("gauss-seidel", a.dense), ("southwell", a.progressive), ("stochastic", a.stochastic)):
         rows = []
         prev = None
         for n in sizes:
@@ -95,16 +105,20 @@ def main():
             growth = "" if prev is None else \
                 f"{math.log(r['total'] / prev['total']) / math.log(r['n'] / prev['n']):.2f}"
             rows.append([r["n"], round(r["direct"], 2), round(r["ff"], 2), round(r["solve"], 2), round(r["total"], 2),
-                         round(r["peak_mb"], 1), r["iters"], round(r["mean_lux"], 2), growth])
+                         round(r["peak_mb"], 1), r["iters"], float(f"{r['residual']:.3g}"), round(r["mean_lux"], 2),
+                         growth])
             print(f"{method:13s} n={r['n']:7d}  direct {r['direct']:8.2f} s  form factors {r['ff']:8.2f} s  "
                   f"solve {r['solve']:8.2f} s  total {r['total']:8.2f} s  peak {r['peak_mb']:9.1f} MiB  "
-                  f"iterations {r['iters']:5d}  mean {r['mean_lux']:.2f} lx  growth {growth}", flush=True)
+                  f"iterations {r['iters']:5d}  residual {r['residual']:.3g}  mean {r['mean_lux']:.2f} lx  "
+                  f"growth {growth}", flush=True)
             prev = r
         tables.append(results.table(f"radiosity, {method}", ["patches", "direct s", "form factors s", "solve s",
-                                                             "total s", "peak MiB", "iterations", "mean lux",
+                                                             "total s", "peak MiB", "iterations", "residual",
+                                                             "mean lux",
                                                              "growth d log T / d log N"], rows))
     results.write("radiosity_scaling", tables, conditions={"threads": a.threads, "n_vis": a.n_vis,
                                                            "n_points": a.n_points, "dense": a.dense,
+                                                           "progressive": a.progressive,
                                                            "stochastic": a.stochastic})
 
 

@@ -138,3 +138,30 @@ def test_without_sensors_every_calculation_surface_gets_its_csv_summary_and_repo
 def test_without_sensors_a_scene_without_surfaces_says_so(tmp_path, scene_file):
     r = run(["lux", str(scene_file)], tmp_path)
     assert r.returncode == 2 and "calculation_surfaces" in r.stderr and "--sensors" in r.stderr
+
+
+@pytest.mark.slow
+def test_lux_by_radiosity_reports_its_stages_and_stops_on_ctrl_c(tmp_path):
+    """--method radiosity prints its stages on stderr; Ctrl-C during the form factors ends
+    the command soon with status 130 and no CSV, as with the path tracer."""
+    import signal
+    import time
+
+    pts = tmp_path / "p.pts"
+    pts.write_text("-0.278 0.279 0.001 0 0 1\n")
+    proc = subprocess.Popen(CLI + ["lux", "--builtin", "cornell", "--sensors", str(pts), "--method", "radiosity",
+                                   "--max-edge", "0.03", "--out", "lux.csv"], cwd=tmp_path,
+                            stderr=subprocess.PIPE, text=True)
+    lines = []
+    for line in proc.stderr:
+        lines.append(line)
+        if "form factors" in line:
+            break
+    assert any("patches" in x for x in lines) and any("direct light" in x for x in lines), lines
+    t0 = time.monotonic()
+    proc.send_signal(signal.SIGINT)
+    rest = proc.stderr.read()
+    assert proc.wait(timeout=120) == 130
+    assert time.monotonic() - t0 < 60, "the form factors went on after Ctrl-C"
+    assert "interrupted" in rest
+    assert not (tmp_path / "lux.csv").exists()

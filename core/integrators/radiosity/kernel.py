@@ -19,8 +19,9 @@ one of three loops over rows of receivers (points with a normal):
   cosine-distributed direction about its normal, reaches first (-1: none, or a side that
   is not a patch): the step of the stochastic shooting solver.
 
-Random numbers are a pure function of (seed, row, sample point, column, ray), so results do
-not depend on threads or on how rows are split: the shadow rays and light samples of one
+Random numbers are a pure function of (seed, row, sample point, column, ray), the row being
+the receiver's own patch where it has one, so results do not depend on threads or on how
+rows are split or batched: the shadow rays and light samples of one
 (point, column) pair are the first points of an Owen-scrambled (0, 2)-sequence
 (core/sampling/rng.py ``sobol_pair_both``), a shot ray's four numbers independent uniforms
 (``uniform``). The kernel is serial and releases the GIL;
@@ -56,6 +57,9 @@ class PatchRecord(NamedTuple):
         front side (column 0, the side of e1 × e2 of the geometry triangle) and of its
         back (column 1); -1 where that side is not a patch.
     tri_nrm: float64 (T, 3) the geometric normals of the triangles in leaf order.
+    occ_nodes, occ_tris: the BVH that shadow rays (OP_FORM_FACTORS, OP_DIRECT) test: over
+        the scene's triangles before subdivision, which cover the same surface as the
+        patches' geometry with far fewer nodes (or the same tree as nodes, tris).
     """
 
     v0: np.ndarray
@@ -66,6 +70,8 @@ class PatchRecord(NamedTuple):
     tris: np.ndarray
     tri_patch: np.ndarray
     tri_nrm: np.ndarray
+    occ_nodes: np.ndarray
+    occ_tris: np.ndarray
 
 
 class QueryRecord(NamedTuple):
@@ -102,11 +108,15 @@ def _seed(seed, a, b, c):
 def ff_point_triangle(px, py, pz, nx, ny, nz, v0, e1, e2, nrm, j, poly):
     """Item 57 for patch j seen from p (unit normal n): the triangle clipped to the
     hemisphere n · (y − p) ≥ 0 (Sutherland–Hodgman into ``poly``, float64 (≥ 4, 3)), then
-    −1/(2π) Σ γ_k n · (R_k × R_k+1)/|R_k × R_k+1|. 0 when p is behind the triangle."""
+    −1/(2π) Σ γ_k n · (R_k × R_k+1)/|R_k × R_k+1|. 0 when p is behind the triangle or in
+    its plane."""
     ax = v0[j, 0] - px
     ay = v0[j, 1] - py
     az = v0[j, 2] - pz
-    if -(ax * nrm[j, 0] + ay * nrm[j, 1] + az * nrm[j, 2]) <= 0.0:
+    # in the triangle's plane (to rounding) counts as behind: a point sees a polygon in its own
+    # plane edge-on, F = 0, where the formula would give 1 for a point inside it (the patch on
+    # the other side of a receiver's own triangle)
+    if -(ax * nrm[j, 0] + ay * nrm[j, 1] + az * nrm[j, 2]) <= 1e-9 * (abs(ax) + abs(ay) + abs(az)):
         return 0.0
     m = 0
     for k in range(3):
@@ -178,6 +188,7 @@ def _form_factor_row(pat, qry, r, n_vis, seed, eps, out, poly, stack):
     n_pts = qry.pts.shape[1]
     inv_k = 1.0 / n_pts
     own = qry.own[r]
+    key = own if own >= 0 else r  # a patch's row gets the same numbers however rows are batched
     for c in range(qry.cols.shape[0]):
         j = qry.cols[c]
         if j == own:
@@ -195,7 +206,7 @@ def _form_factor_row(pat, qry, r, n_vis, seed, eps, out, poly, stack):
                 ox = px + eps * nx
                 oy = py + eps * ny
                 oz = pz + eps * nz
-                ps = _seed(seed, r, s, j)
+                ps = _seed(seed, key, s, j)
                 seen = 0
                 for m in range(n_vis):
                     u, v = sobol_pair_both(np.uint64(m), ps, np.uint64(0))
@@ -207,8 +218,8 @@ def _form_factor_row(pat, qry, r, n_vis, seed, eps, out, poly, stack):
                     if d <= eps:
                         seen += 1
                         continue
-                    if not trace_occluded(ox, oy, oz, dx / d, dy / d, dz / d, 0.0, d - eps, pat.nodes, pat.tris,
-                                          stack):
+                    if not trace_occluded(ox, oy, oz, dx / d, dy / d, dz / d, 0.0, d - eps, pat.occ_nodes,
+                                          pat.occ_tris, stack):
                         seen += 1
                 f *= seen / n_vis
             acc += f
@@ -239,7 +250,7 @@ def _direct_row(pat, qry, lit, r, n_vis, seed, eps, out, stack):
                     wx = lx * tx + ly * bx + lz * nx
                     wy = lx * ty + ly * by + lz * ny
                     wz = lx * tz + ly * bz + lz * nz
-                    if not trace_occluded(ox, oy, oz, wx, wy, wz, 0.0, np.inf, pat.nodes, pat.tris, stack):
+                    if not trace_occluded(ox, oy, oz, wx, wy, wz, 0.0, np.inf, pat.occ_nodes, pat.occ_tris, stack):
                         acc += math.pi
                     continue
                 wx, wy, wz, dist, pdf, fac = sample_light(lit.kind[li], lit.geo, lit.prof, li, lit.two[li] != 0,
@@ -248,7 +259,7 @@ def _direct_row(pat, qry, lit, r, n_vis, seed, eps, out, stack):
                 if not (fac > 0.0 and pdf > 0.0 and cos_n > 0.0):
                     continue
                 tmax = dist * (1.0 - 1e-7) if dist < np.inf else np.inf
-                if trace_occluded(ox, oy, oz, wx, wy, wz, 0.0, tmax, pat.nodes, pat.tris, stack):
+                if trace_occluded(ox, oy, oz, wx, wy, wz, 0.0, tmax, pat.occ_nodes, pat.occ_tris, stack):
                     continue
                 if pdf == np.inf:
                     acc += cos_n * fac

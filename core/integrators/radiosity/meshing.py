@@ -30,7 +30,10 @@ class Patches:
     of the geometry triangle (its e1 × e2 side), 1 its back; material: int32 (n,);
     source: int32 (n,) the scene triangle (meshes concatenated in the scene's order);
     geometry: float64 (T, 3, 3) the triangles that occlude (every patch's own triangle);
-    tri_patch: int32 (T, 2) the patch of each geometry triangle's front and back (-1 none).
+    tri_patch: int32 (T, 2) the patch of each geometry triangle's front and back (-1 none);
+    occluders: float64 (T0, 3, 3) the scene's triangles before subdivision, which cover the
+    same surface as ``geometry``: shadow rays test these (a far smaller tree to traverse);
+    None: ``geometry``.
     """
 
     corners: np.ndarray
@@ -42,6 +45,7 @@ class Patches:
     source: np.ndarray
     geometry: np.ndarray
     tri_patch: np.ndarray
+    occluders: np.ndarray | None = None
 
     @property
     def n(self):
@@ -57,7 +61,11 @@ class Patches:
         idx[keep] = np.arange(int(keep.sum()), dtype=np.int32)
         tp = np.where(self.tri_patch >= 0, idx[np.maximum(self.tri_patch, 0)], -1).astype(np.int32)
         return Patches(self.corners[keep], self.normal[keep], self.area[keep], self.tri[keep], self.side[keep],
-                       self.material[keep], self.source[keep], self.geometry, tp)
+                       self.material[keep], self.source[keep], self.geometry, tp, self.occluders)
+
+    def shadow_geometry(self):
+        """The triangles shadow rays test (``occluders``, else ``geometry``)."""
+        return self.geometry if self.occluders is None else self.occluders
 
 
 def scene_triangles(scene):
@@ -115,8 +123,9 @@ def subdivide(tri, max_edge):
     return np.concatenate(out)[order], np.concatenate(parent)[order]
 
 
-def _assemble(geometry, mat, source, sides):
-    """Patches over the geometry triangles for ``sides`` ("both" or "front")."""
+def _assemble(geometry, mat, source, sides, occluders=None):
+    """Patches over the geometry triangles for ``sides`` ("both" or "front"), shadowed by
+    ``occluders`` (None: the geometry)."""
     t = geometry.shape[0]
     e1 = geometry[:, 1] - geometry[:, 0]
     e2 = geometry[:, 2] - geometry[:, 0]
@@ -139,7 +148,8 @@ def _assemble(geometry, mat, source, sides):
     k = len(corners)
     return Patches(np.ascontiguousarray(np.concatenate(corners)), np.concatenate(normals), np.tile(area, k),
                    np.concatenate(tri_idx), np.concatenate(side), np.tile(mat, k).astype(np.int32),
-                   np.tile(source, k).astype(np.int32), np.ascontiguousarray(geometry), tri_patch)
+                   np.tile(source, k).astype(np.int32), np.ascontiguousarray(geometry), tri_patch,
+                   None if occluders is None else np.ascontiguousarray(occluders, np.float64))
 
 
 def build_patches(scene, max_edge=None, sides="both"):
@@ -155,7 +165,7 @@ def build_patches(scene, max_edge=None, sides="both"):
     if tri.shape[0] == 0:
         raise SceneError("radiosity: the scene has no surfaces to mesh into patches")
     sub, parent = subdivide(tri, max_edge)
-    return _assemble(sub, mat[parent], source[parent], sides)
+    return _assemble(sub, mat[parent], source[parent], sides, tri)
 
 
 def split4(corners):
@@ -234,7 +244,7 @@ def refine(patches, values, threshold, min_area=0.0):
     mat = np.concatenate([t_mat[keep], np.repeat(t_mat[tri_split], 4)])
     src = np.concatenate([t_src[keep], np.repeat(t_src[tri_split], 4)])
     sides = "both" if np.any(patches.side == 1) else "front"
-    return _assemble(geometry, mat, src, sides), int(tri_split.sum())
+    return _assemble(geometry, mat, src, sides, patches.occluders), int(tri_split.sum())
 
 
 @dataclass
@@ -249,13 +259,15 @@ class DisplayMesh:
 
 
 def display_mesh(patches):
-    """The patches' corners welded per side (and per scene mesh triangle's plane is not
-    needed: a vertex shared by patches on different sides stays two vertices)."""
+    """The patches' corners welded per side and per facing direction: a vertex is shared by
+    the patches of one side that meet there with the same normal (one plane), so values do
+    not bleed across a crease (a block standing on the floor) or between the two sides."""
     tol = _tolerance(patches)
     pts = patches.corners.reshape(-1, 3)
     side = np.repeat(patches.side, 3).astype(np.int64)
     q = np.round(pts / tol).astype(np.int64)
-    key = np.concatenate([q, side[:, None]], axis=1)
+    facing = np.round(np.repeat(patches.normal, 3, axis=0) * 1e4).astype(np.int64)
+    key = np.concatenate([q, side[:, None], facing], axis=1)
     _, first, inv = np.unique(key, axis=0, return_index=True, return_inverse=True)
     return DisplayMesh(pts[first], inv.reshape(-1, 3).astype(np.int32), side[first].astype(np.int8))
 

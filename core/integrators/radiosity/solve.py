@@ -37,6 +37,7 @@ materials; textures are ignored (their material's reflectance spectrum is used).
 from __future__ import annotations
 
 import math
+import threading
 import time
 import warnings
 from concurrent.futures import ThreadPoolExecutor
@@ -134,17 +135,25 @@ def band_means(rows, idx, w, k):
 # ------------------------------------------------------------------------------ kernel driver
 
 def _pool_run(fn, n_rows, threads, block=None):
-    """fn(r0, r1) over [0, n_rows) in blocks, on a pool of ``threads`` threads."""
+    """fn(r0, r1) over [0, n_rows) in blocks (``block`` rows; None: about 8 per thread), on a
+    pool of ``threads`` threads. An exception in the calling thread (Ctrl-C) drops the blocks
+    not yet started, so the call ends after the blocks running."""
     if n_rows == 0:
         return
+    block = block or max(1, -(-n_rows // (8 * max(threads, 1))))
     if threads <= 1:
-        fn(0, n_rows)
+        for a in range(0, n_rows, block):
+            fn(a, min(n_rows, a + block))
         return
-    block = block or max(1, -(-n_rows // (8 * threads)))
-    with ThreadPoolExecutor(max_workers=threads, thread_name_prefix="spectral-gi-radiosity") as pool:
+    pool = ThreadPoolExecutor(max_workers=threads, thread_name_prefix="spectral-gi-radiosity")
+    try:
         futs = [pool.submit(fn, a, min(n_rows, a + block)) for a in range(0, n_rows, block)]
         for f in futs:
             f.result()
+    except BaseException:
+        pool.shutdown(wait=True, cancel_futures=True)
+        raise
+    pool.shutdown(wait=True)
 
 
 def _scratch():
@@ -152,15 +161,20 @@ def _scratch():
 
 
 _EMPTY_I = np.zeros(1, np.int32)
+ROW_BLOCK = 64
 
 
-def run_op(op, pat, qry, lit, n_out_cols, n_vis, seed, eps, threads, n_rows=None, should_cancel=None):
+def run_op(op, pat, qry, lit, n_out_cols, n_vis, seed, eps, threads, n_rows=None, should_cancel=None,
+           report=None):
     """Run kernel operation ``op`` over every row of ``qry`` (or ray, for OP_SHOOT):
-    returns out float32 (R, n_out_cols), or for OP_SHOOT hits int32 (N,)."""
+    returns out float32 (R, n_out_cols), or for OP_SHOOT hits int32 (N,). ``report(done,
+    total)`` is called after each block of rows (from the worker threads, one at a time)."""
     shoot = op == K.OP_SHOOT
     n_rows = (qry.src.shape[0] if shoot else qry.pts.shape[0]) if n_rows is None else n_rows
     out = np.zeros((1, 1) if shoot else (qry.pts.shape[0], n_out_cols), np.float32)
     hits = np.full(n_rows if shoot else 1, -1, np.int32)
+    lock = threading.Lock()
+    done = [0]
 
     def fn(r0, r1):
         if should_cancel is not None and should_cancel():
@@ -168,8 +182,16 @@ def run_op(op, pat, qry, lit, n_out_cols, n_vis, seed, eps, threads, n_rows=None
         poly, stack = _scratch()
         K.radiosity_rays(int(op), int(r0), int(r1), pat, qry, lit, int(n_vis), int(seed), float(eps), out, hits,
                          poly, stack)
+        if report is not None:
+            with lock:
+                done[0] += r1 - r0
+                report(done[0], n_rows)
 
-    _pool_run(fn, n_rows, threads)
+    # rows of form factors or direct light in blocks of at most ROW_BLOCK (Ctrl-C and cancel act soon), and
+    # of at least a share of the rows per thread or 32 (each call of the kernel costs its dispatch)
+    t = max(threads, 1)
+    block = max(min(32, -(-n_rows // t)), min(ROW_BLOCK, -(-n_rows // (8 * t))))
+    _pool_run(fn, n_rows, threads, None if shoot else block)
     return hits if shoot else out
 
 
@@ -186,9 +208,11 @@ def _no_lights():
     return K.LightRecord(np.zeros(0, np.int32), np.zeros((0, LG.LG_SIZE)), np.zeros(1), np.zeros(0, np.int32))
 
 
-def patch_record(corners, geometry=None, tri_patch=None):
+def patch_record(corners, geometry=None, tri_patch=None, occluders=None):
     """The kernel's PatchRecord of oriented triangles ``corners`` (n, 3, 3), occluded by
-    ``geometry`` (T, 3, 3) (default: the patches themselves, one patch per triangle)."""
+    ``geometry`` (T, 3, 3) (default: the patches themselves, one patch per triangle); shadow
+    rays test ``occluders`` (triangles covering the same surface as ``geometry``, e.g. the
+    scene's before subdivision; None: ``geometry``)."""
     corners = np.ascontiguousarray(corners, np.float64)
     if geometry is None:
         geometry = corners
@@ -201,10 +225,14 @@ def patch_record(corners, geometry=None, tri_patch=None):
     nrm = cr / np.linalg.norm(cr, axis=1, keepdims=True)
     ge = np.cross(geometry[:, 1] - geometry[:, 0], geometry[:, 2] - geometry[:, 0])
     gn = ge / np.maximum(np.linalg.norm(ge, axis=1, keepdims=True), 1e-300)
+    occ = bvh
+    if occluders is not None:
+        o = np.asarray(occluders, np.float64)
+        occ = accel.build(o[:, 0], o[:, 1], o[:, 2])
     return K.PatchRecord(np.ascontiguousarray(corners[:, 0]), np.ascontiguousarray(e1), np.ascontiguousarray(e2),
                          np.ascontiguousarray(nrm), bvh.nodes, bvh.tris,
                          np.ascontiguousarray(np.asarray(tri_patch)[bvh.prims], np.int32),
-                         np.ascontiguousarray(gn[bvh.prims]))
+                         np.ascontiguousarray(gn[bvh.prims]), occ.nodes, occ.tris)
 
 
 def sample_points(corners, n_points):
@@ -325,7 +353,9 @@ def _solve_groups(method, F, rho_b, E_b, area, tol, max_iter, weights, progress,
         wts.append(np.abs(vt[:r]) @ weights[cols])
     B = np.zeros((n, k))
     if not rhs:
-        return B, [solvers.SolveStats(method, 0, 0.0, 0.0, True, columns=0)]
+        st = solvers.SolveStats(method, 0, 0.0, 0.0, True, columns=0)
+        st.received = np.zeros((n, k)) if method == "southwell" else None
+        return B, [st]
     kw = dict(tol=tol, progress=progress, should_cancel=should_cancel)
     if max_iter is not None:
         kw["max_iter"] = max_iter
@@ -333,10 +363,14 @@ def _solve_groups(method, F, rho_b, E_b, area, tol, max_iter, weights, progress,
         kw["weights"] = np.concatenate(wts)
     X, st = solvers.solve_dense(method, F, np.concatenate(rho, axis=1), np.concatenate(rhs, axis=1), area, **kw)
     st.columns = X.shape[1]
+    recv = None if st.received is None else np.zeros((n, k))
     c0 = 0
     for cols, vt in back:
         B[:, cols] = X[:, c0:c0 + vt.shape[0]] @ vt
+        if recv is not None:
+            recv[:, cols] = st.received[:, c0:c0 + vt.shape[0]] @ vt
         c0 += vt.shape[0]
+    st.received = recv
     return B, [st]
 
 
@@ -415,9 +449,11 @@ def radiosity(scene, *, max_edge=None, sides="both", method="gauss-seidel", tol=
     no occlusion, for convex rooms); n_light: samples per point per analytic light;
     rays: rays per stochastic iteration (None: 64 per patch); refine_threshold: split
     patches whose luminance differs from a neighbour's by more than this fraction and solve
-    again, up to refine_steps times, down to min_area m²; progress(stage, a, b): ("direct",
-    done, total) and ("form factors", done, total) after those stages, ("solve", iteration,
-    residual) after each iteration; should_cancel(): checked between stages,
+    again, up to refine_steps times, down to min_area m²; progress(stage, a, b):
+    ("patches", n, max_edge) once meshed, ("direct", done, total) after that stage,
+    ("form factors", rows done, rows) after each block of rows (Southwell computes its rows
+    while it solves), ("solve", iteration, residual) after each iteration (for Southwell
+    each step; iteration counts the shots); should_cancel(): checked between stages,
     blocks of rows and iterations (True: the solution so far is returned, flagged in its
     stats)."""
     from ...film.record import cmf_table
@@ -436,6 +472,8 @@ def radiosity(scene, *, max_edge=None, sides="both", method="gauss-seidel", tol=
     edges, bidx, vw, v_band, xyz_band = band_tables(cmf, band_width)
     nb = v_band.size
     patches = meshing.build_patches(scene, max_edge, sides)
+    if progress is not None:
+        progress("patches", patches.n, 0.0 if max_edge is None else float(max_edge))
     lit, light_shapes, notes = _lights(scene, spec, cmf, patches.geometry)
     light_bands = band_means(light_shapes, bidx, vw, nb)
     for step in range(int(refine_steps) + 1 if refine_threshold else 1):
@@ -462,7 +500,7 @@ def _solve_patches(scene, spec, cmf, patches, lit, light_bands, bidx, vw, v_band
     rho_mb = band_means(rho_m, bidx, vw, nb)
     be_mb = math.pi * band_means(le_m, bidx, vw, nb)
     eps = _eps(patches.geometry)
-    pat = patch_record(patches.corners, patches.geometry, patches.tri_patch)
+    pat = patch_record(patches.corners, patches.geometry, patches.tri_patch, patches.occluders)
     pts = sample_points(patches.corners, n_points)
     own = np.arange(patches.n, dtype=np.int32)
     # direct light from the analytic lights and the sky, which also finds the sides that see nothing
@@ -479,7 +517,7 @@ def _solve_patches(scene, spec, cmf, patches, lit, light_bands, bidx, vw, v_band
     keep = emits | lit_direct | sees_something
     if not keep.all():
         patches = patches.subset(keep)
-        pat = patch_record(patches.corners, patches.geometry, patches.tri_patch)
+        pat = patch_record(patches.corners, patches.geometry, patches.tri_patch, patches.occluders)
         pts = pts[keep]
         direct = direct[keep]
         emits = emits[keep]
@@ -500,16 +538,29 @@ def _solve_patches(scene, spec, cmf, patches, lit, light_bands, bidx, vw, v_band
             raise SceneError(f"radiosity: {n} patches need a {4 * n * n / 2 ** 30:.1f} GiB form-factor matrix; "
                              "use method='stochastic' (matrix-free) or larger patches")
         t0 = time.perf_counter()
-        qry = _query(pts, patches.normal, own, np.arange(n, dtype=np.int32))
-        F = run_op(K.OP_FORM_FACTORS, pat, qry, lit, n, n_vis, seed, eps, threads, should_cancel=should_cancel)
-        seconds["form factors"] = time.perf_counter() - t0
-        if progress is not None:
-            progress("form factors", n, n)
+        cols = np.arange(n, dtype=np.int32)
+        if method == "southwell":  # rows on demand: only the patches that shoot need theirs
+            def compute(idx):
+                q = _query(pts[idx], patches.normal[idx], own[idx], cols)
+                return run_op(K.OP_FORM_FACTORS, pat, q, lit, n, n_vis, seed, eps, threads,
+                              should_cancel=should_cancel)
+
+            F = solvers.RowCache(n, compute)
+        else:
+            F = run_op(K.OP_FORM_FACTORS, pat, _query(pts, patches.normal, own, cols), lit, n, n_vis, seed, eps,
+                       threads, should_cancel=should_cancel,
+                       report=None if progress is None else (lambda a, b: progress("form factors", a, b)))
+            seconds["form factors"] = time.perf_counter() - t0
         E = be_b + rho_b * H0
         B, stats = _solve_groups(method, F, rho_b, E, patches.area, tol, max_iter, v_band,
                                  None if progress is None else (lambda i, r: progress("solve", i, r)),
                                  should_cancel)
         seconds["solve"] = sum(s.seconds for s in stats)
+        if method == "southwell":  # the rows no patch shot are computed for the gather below
+            seconds["solve"] -= F.seconds
+            F(np.nonzero(~F.have)[0])
+            seconds["form factors"] = F.seconds
+            F = F.F
         H = H0 + (F @ B.astype(np.float32)).astype(np.float64)
         Hd = H0 + (F @ be_b.astype(np.float32)).astype(np.float64)
     illum = C.K_M * (H @ v_band)
@@ -554,31 +605,63 @@ def illuminance_at(solution, points, normals, *, direct=True, indirect=True, n_p
     return C.K_M * (H @ ctx.v_band)
 
 
-def default_max_edge(scene):
-    """The patch size a lighting analysis uses without one: 1/16 of the scene's largest extent."""
+DEFAULT_PATCHES = 2500
+
+
+def default_max_edge(scene, patches=DEFAULT_PATCHES):
+    """The patch size a lighting analysis uses without one: the largest ``max_edge`` (m) that
+    cuts the scene's triangles into at least ``patches`` pieces (one side of each; the
+    sides that see nothing are dropped in the solve, the others make about this many
+    patches), so the cost follows the scene's detail, not its size."""
     tri, _, _ = meshing.scene_triangles(scene)
     if tri.shape[0] == 0:
         raise SceneError("radiosity: the scene has no surfaces to mesh into patches")
-    return float(np.ptp(tri.reshape(-1, 3), axis=0).max()) / 16.0
+    edge = np.max(np.linalg.norm(tri - np.roll(tri, 1, axis=1), axis=2), axis=1)
+
+    def count(h):
+        return float(np.sum(np.maximum(1.0, np.ceil(edge / h - 1e-9)) ** 2))
+
+    hi = float(edge.max())
+    if count(hi) >= patches:
+        return hi
+    lo = hi / max(2.0, math.sqrt(patches))
+    while count(lo) < patches:
+        lo *= 0.5
+    for _ in range(40):  # count(lo) ≥ patches > count(hi)
+        mid = 0.5 * (lo + hi)
+        if count(mid) >= patches:
+            lo = mid
+        else:
+            hi = mid
+    return lo
 
 
-def lux_integrator(**options):
+LUX_DEFAULTS = dict(method="jacobi", n_points=1, n_vis=4, tol=1e-4)
+
+
+def lux_integrator(progress=None, should_cancel=None, **options):
     """An illuminance integrator for the lighting analysis (core/lux/calculate.py): a callable
     ``(scene, points, normals) → (lux, std_error)`` that solves the scene by :func:`radiosity`
-    with ``options`` once per scene (max_edge: default ``default_max_edge``) and gathers at the
-    points the analytic lights and emitting patches directly plus the solution's reflected
-    light (:func:`illuminance_at`). The error of radiosity is the mesh's, not sampling noise:
-    the standard errors returned are 0."""
+    with ``options`` once per scene and gathers at the points the analytic lights and
+    emitting patches directly plus the solution's reflected light (:func:`illuminance_at`).
+    Options not given take ``LUX_DEFAULTS`` (Jacobi to a residual of 1e-4, one sample point
+    per patch, four shadow rays per pair) and max_edge ``default_max_edge`` (about
+    ``DEFAULT_PATCHES`` patches). ``progress(stage, a, b)``, ``should_cancel()``: as
+    :func:`radiosity`, plus ("patches", n, max_edge) once the scene is meshed and
+    ("gather", points, 0) before the gather. The error of radiosity is the mesh's, not
+    sampling noise: the standard errors returned are 0."""
     cache = {}
 
     def integrate(scene, points, normals):
         key = id(scene)
         if key not in cache:
-            opts = dict(options)
+            opts = {**LUX_DEFAULTS, **{k: v for k, v in options.items() if v is not None}}
             if opts.get("max_edge") is None:
                 opts["max_edge"] = default_max_edge(scene)
             cache.clear()
-            cache[key] = (scene, radiosity(scene, **opts))
+            cache[key] = (scene, radiosity(scene, progress=progress, should_cancel=should_cancel, **opts))
+        if progress is not None:
+            progress("gather", int(np.asarray(points).reshape(-1, 3).shape[0]), 0)
         lux = illuminance_at(cache[key][1], points, normals)
         return lux, np.zeros_like(lux)
 

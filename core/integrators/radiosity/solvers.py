@@ -14,18 +14,22 @@ directly from analytic lights), or, multiplied by the areas, the power system
 Every solver takes F (n, n) (row i: F_{i→j}), ρ (n, K) or (n, 1) and E (n, K), one column
 per right-hand side, and returns (B (n, K), SolveStats). They stop when the relative
 residual, Σ_i A_i |E_i + ρ_i (F B)_i − B_i| / Σ_i A_i |B_i| over all columns (the power
-still out of balance over the power leaving the patches), is at most ``tol``, after
+still out of balance over the power leaving the patches; for Southwell the unshot power),
+is at most ``tol``, after
 ``max_iter`` iterations, or when ``should_cancel()`` returns True; ``progress(iteration,
 residual)`` is called after each iteration (a sweep; for the shooting solvers a block of
 shots).
 
-* ``jacobi``: B ← E + ρ F B, the Neumann series; every sweep is one matrix product.
+* ``jacobi``: B ← E + ρ F B, the Neumann series; every sweep is one matrix product
+  (which also gives the residual).
 * ``gauss_seidel``: the same update row by row, using the rows already updated; about
   half as many sweeps.
 * ``southwell``: progressive refinement (Cohen, Chen, Wallace and Greenberg 1988): the
-  patch with the most unshot power shoots it to every patch (row i of F, the share of
+  patches with the most unshot power shoot it to every patch (row i of F, the share of
   its power that reaches each patch, so the power system's answer), so the first steps
-  already light the scene; ``ambient`` gives the ambient term of the display, the unshot power spread
+  already light the scene; a batch of patches shoots per step, and the rows of F can be
+  computed on demand (``RowCache``); its residual is the unshot power (see ``southwell``);
+  ``ambient`` gives the ambient term of the display, the unshot power spread
   uniformly with the mean reflectance's interreflection factor 1/(1 − ρ̄).
 * the matrix-free stochastic solver lives in ``solve.py`` (it needs the scene's rays).
 """
@@ -54,6 +58,7 @@ class SolveStats:
     converged: bool
     cancelled: bool = False
     ambient: np.ndarray | None = None  # Southwell: the display's ambient term per column (``ambient``)
+    received: np.ndarray | None = None  # Southwell: the irradiance (n, K) each patch received from the shots
     columns: int = 0  # right-hand sides solved (core.radiosity: after the reduction of the bands)
 
 
@@ -108,11 +113,33 @@ def _loop(name, step, F, rho, E, area, tol, max_iter, progress, should_cancel):
     return B, SolveStats(name, it, res, time.perf_counter() - t0, res <= tol, cancelled)
 
 
+def _relative(area, r, B):
+    den = float(np.sum(area[:, None] * np.abs(B)))
+    return float(np.sum(area[:, None] * np.abs(r))) / den if den > 0 else 0.0
+
+
 def jacobi(F, rho, E, area=None, *, tol=1e-6, max_iter=10000, progress=None, should_cancel=None):
-    """Jacobi iteration on the radiosity system (item 61)."""
+    """Jacobi iteration on the radiosity system (item 61). The product F B of a sweep gives
+    both the next iterate and the residual of the current one, E + ρ F B − B: one matrix
+    product per sweep."""
     F, rho, E, area = _check(F, rho, E, area)
-    return _loop("jacobi", lambda B: E + rho * _matvec(F, B), F, rho, E, area, tol, max_iter, progress,
-                 should_cancel)
+    t0 = time.perf_counter()
+    B = E.copy()
+    it = 0
+    cancelled = False
+    while True:
+        nxt = E + rho * _matvec(F, B)
+        res = _relative(area, nxt - B, B)
+        if it > 0 and progress is not None:
+            progress(it, res)
+        if res <= tol or it >= max_iter:
+            break
+        if should_cancel is not None and should_cancel():
+            cancelled = True
+            break
+        B = nxt
+        it += 1
+    return B, SolveStats("jacobi", it, res, time.perf_counter() - t0, res <= tol, cancelled)
 
 
 def gauss_seidel(F, rho, E, area=None, *, tol=1e-6, max_iter=10000, progress=None, should_cancel=None):
@@ -122,10 +149,14 @@ def gauss_seidel(F, rho, E, area=None, *, tol=1e-6, max_iter=10000, progress=Non
     n = F.shape[0]
     wide = rho.shape[1] == 1
 
+    block = 256
+
     def sweep(B):
         B = B.copy()
-        for i in range(n):
-            B[i] = E[i] + (rho[i, 0] if wide else rho[i]) * (F[i].astype(np.float64) @ B)
+        for a in range(0, n, block):
+            Fb = F[a:a + block].astype(np.float64)  # converted once per block of rows
+            for i in range(a, min(n, a + block)):
+                B[i] = E[i] + (rho[i, 0] if wide else rho[i]) * (Fb[i - a] @ B)
         return B
 
     return _loop("gauss-seidel", sweep, F, rho, E, area, tol, max_iter, progress, should_cancel)
@@ -155,47 +186,102 @@ def jacobi_power(F, rho, E, area, *, tol=1e-6, max_iter=10000, progress=None, sh
 
 
 def southwell(F, rho, E, area, *, tol=1e-6, max_iter=None, weights=None, progress=None, should_cancel=None,
-              check_every=None):
+              batch=None):
     """Progressive refinement (Southwell shooting) on the power system (item 62).
 
-    Each shot takes the patch i with the most unshot power ΔB_i A_i (its columns weighted by
-    ``weights``, e.g. the luminous weight of each band; None: summed) and adds ρ_j F_{i→j}
-    ΔB_i A_i / A_j to every patch's radiosity and unshot radiosity. ``max_iter``: the most
-    shots (None: 50 n). Returns (B, stats); stats.iterations counts the shots. The residual
-    is checked every ``check_every`` shots (None: n)."""
-    F, rho, E, area = _check(F, rho, E, area)
-    n = F.shape[0]
+    Each step takes the ``batch`` patches with the most unshot power ΔB_i A_i (columns
+    weighted by ``weights``, e.g. the luminous weight of each band; None: summed) and each
+    adds ρ_j F_{i→j} ΔB_i A_i / A_j to every patch's radiosity and unshot radiosity (the
+    patches of one step shoot together, what they send each other waits for a later step).
+    ``F``: the (n, n) matrix, or a callable ``rows(idx) → (len(idx), n)`` giving rows i of F
+    on demand, so only the rows of patches that shoot are ever computed (``RowCache``).
+    ``batch`` None: max(1, n // 64), one step's rows computed in one parallel call.
+    ``max_iter``: the most shots (None: 50 n). The residual is the unshot power over the
+    power leaving the patches, Σ_i A_i |ΔB_i| / Σ_i A_i |B_i| (weighted as above): the
+    power system's residual of B − ΔB, a bound on that of B; it costs nothing, so it is
+    checked after every step. Returns (B, stats); stats.iterations counts the shots and
+    stats.received is the irradiance (n, K) each patch received from the shots, so that
+    B = E + ρ · received."""
+    rows = F if callable(F) else None
+    if rows is None:
+        F, rho, E, area = _check(F, rho, E, area)
+        mat = F
+
+        def rows(idx):
+            return mat[idx]
+    else:
+        E = np.asarray(E, np.float64).reshape(np.asarray(area).size, -1)
+        rho = np.asarray(rho, np.float64).reshape(E.shape[0], -1)
+        area = np.asarray(area, np.float64).reshape(E.shape[0])
+    n = E.shape[0]
     w = np.ones(E.shape[1]) if weights is None else np.asarray(weights, np.float64).reshape(-1)
     max_iter = 50 * n if max_iter is None else int(max_iter)
-    check_every = max(1, n if check_every is None else int(check_every))
+    k = max(1, n // 64 if batch is None else int(batch))
     t0 = time.perf_counter()
     B = E.copy()
     dB = E.copy()
+    recv = np.zeros_like(E)
     unshot = area * (np.abs(dB) @ w)
+
+    def res_now():
+        den = float(np.sum(area * (np.abs(B) @ w)))
+        return float(unshot.sum()) / den if den > 0 else 0.0
+
     shots = 0
-    res = residual(F, rho, E, B, area)
+    res = res_now()
     cancelled = False
     while res > tol and shots < max_iter:
         if should_cancel is not None and should_cancel():
             cancelled = True
             break
-        i = int(np.argmax(unshot))
-        if not unshot[i] > 0:
+        m = min(k, n, max_iter - shots)
+        idx = np.argpartition(-unshot, m - 1)[:m] if m < n else np.arange(n)
+        idx = idx[unshot[idx] > 0]
+        if idx.size == 0:
             break
-        shoot = dB[i].copy()
-        dB[i] = 0.0
-        gain = rho * ((F[i].astype(np.float64) * (area[i] / area))[:, None] * shoot[None, :])
+        shoot = dB[idx] * area[idx, None]  # (m, K) the power each shoots
+        dB[idx] = 0.0
+        Fi = np.asarray(rows(idx), np.float64)  # (m, n)
+        got = (Fi.T @ shoot) / area[:, None]  # (n, K) irradiance received
+        recv += got
+        gain = rho * got
         B += gain
         dB += gain
         unshot = area * (np.abs(dB) @ w)
-        shots += 1
-        if shots % check_every == 0:
-            res = residual(F, rho, E, B, area)
-            if progress is not None:
-                progress(shots, res)
-    res = residual(F, rho, E, B, area)
-    return B, SolveStats("southwell", shots, res, time.perf_counter() - t0, res <= tol, cancelled,
-                         ambient(rho, dB, area))
+        shots += int(idx.size)
+        res = res_now()
+        if progress is not None:
+            progress(shots, res)
+    st = SolveStats("southwell", shots, res, time.perf_counter() - t0, res <= tol, cancelled, ambient(rho, dB, area))
+    st.received = recv
+    return B, st
+
+
+class RowCache:
+    """Rows of the form-factor matrix computed on demand by ``compute(idx) → float32
+    (len(idx), n)`` and kept (an (n, n) float32 array whose untouched rows take no memory),
+    for progressive refinement: a patch that shoots again reuses its row."""
+
+    def __init__(self, n, compute):
+        self.n = int(n)
+        self.compute = compute
+        self.F = np.empty((self.n, self.n), np.float32)
+        self.have = np.zeros(self.n, bool)
+        self.seconds = 0.0  # spent computing rows
+
+    def __call__(self, idx):
+        idx = np.asarray(idx, np.int64)
+        need = idx[~self.have[idx]]
+        if need.size:
+            t0 = time.perf_counter()
+            self.F[need] = self.compute(need)
+            self.have[need] = True
+            self.seconds += time.perf_counter() - t0
+        return self.F[idx]
+
+    @property
+    def computed(self):
+        return int(self.have.sum())
 
 
 def ambient(rho, dB, area):

@@ -32,3 +32,14 @@ def test_split4_and_the_display_mesh_weld_shared_corners():
     assert v.shape == (18,)
     pairs = meshing.neighbours(p)
     assert np.all(p.side[pairs[:, 0]] == p.side[pairs[:, 1]])
+
+
+def test_the_display_mesh_does_not_weld_across_a_crease():
+    """A floor and a wall sharing an edge keep their own vertices there, so a bright floor
+    does not bleed into the wall's vertex values."""
+    floor = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]
+    wall = [[0, 0, 0], [0, 1, 0], [0, 0, 1]]
+    p = meshing._assemble(np.array([floor, wall], float), np.zeros(2, np.int32), np.zeros(2, np.int32), "front")
+    mesh = meshing.display_mesh(p)
+    assert mesh.positions.shape[0] == 6
+    np.testing.assert_array_equal(np.sort(np.unique(meshing.to_vertices(mesh, p, np.array([1.0, 5.0])))), [1, 5])

@@ -131,6 +131,70 @@ def test_solvers_agree_items_61_62():
     assert np.median(np.abs(st.illuminance / ref - 1)) < 0.03
 
 
+def test_southwell_in_batches_with_rows_on_demand_items_61_62():
+    """Progressive refinement that shoots batches of patches, asking for rows of F only as
+    patches shoot (each row computed once), reaches the power system's fixed point; its
+    residual is the unshot power, and B = E + ρ · the irradiance received from the shots."""
+    from spectral_gi.core.integrators.radiosity import solvers
+
+    sc = room(0.7, ceiling_luminance=50.0, rho_ceiling=0.3)
+    p = meshing.build_patches(sc, max_edge=0.34, sides="front")
+    F = core.element_form_factors(p.corners, p.corners, p.geometry, n_points=4, n_vis=0).astype(np.float32)
+    rho = np.where(p.material == 1, 0.3, 0.7)[:, None]
+    E = np.where(p.material == 1, 50.0, 0.0)[:, None] * np.array([[1.0, 0.5]])  # two right-hand sides
+    want, _ = solvers.jacobi_power(F, rho, E, p.area, tol=1e-12)
+    one, st1 = solvers.southwell(F, rho, E, p.area, tol=1e-10, batch=1)
+    asked = []
+    cache = solvers.RowCache(p.n, lambda idx: (asked.extend(idx.tolist()), F[idx])[1])
+    steps = []
+    many, st8 = solvers.southwell(cache, rho, E, p.area, tol=1e-10, batch=8, progress=lambda i, r: steps.append(r))
+    for B, st in ((one, st1), (many, st8)):
+        np.testing.assert_allclose(B, want, rtol=1e-6)  # jacobi_power multiplies in float32
+        assert st.converged and st.residual <= 1e-10
+        np.testing.assert_allclose(B, E + rho * st.received, rtol=1e-12)
+    assert len(asked) == len(set(asked)) == cache.computed <= p.n  # every row computed once at most
+    assert len(steps) < st8.iterations  # 8 shots a step
+    # the residual is the unshot power: it only falls, as shooting never creates power
+    assert np.all(np.diff(steps) <= 1e-15)
+
+
+def test_form_factor_rows_do_not_depend_on_batching_or_on_the_subdivision_of_the_occluders():
+    """OP_FORM_FACTORS: a patch's row gets the same random numbers wherever it sits in a
+    query, and shadow rays through the scene's triangles before subdivision see the same
+    occluders as through the patches' geometry."""
+    from spectral_gi.core.integrators.radiosity import kernel as K
+
+    sc = room(0.5, ceiling_luminance=10.0)
+    sc.meshes.append(box_mesh("table", (0.3, 0.3, 0.0), (0.7, 0.6, 0.4), 0))
+    p = meshing.build_patches(sc, max_edge=0.2)
+    coarse = solve.patch_record(p.corners, p.geometry, p.tri_patch, p.occluders)
+    fine = solve.patch_record(p.corners, p.geometry, p.tri_patch)
+    assert coarse.occ_tris.shape[0] < fine.occ_tris.shape[0]
+    pts = solve.sample_points(p.corners, 4)
+    own = np.arange(p.n, dtype=np.int32)
+    eps = solve._eps(p.geometry)
+    args = (solve._no_lights(), p.n, 4, 5, eps)
+    full = solve.run_op(K.OP_FORM_FACTORS, coarse, solve._query(pts, p.normal, own, own), *args, 2)
+    idx = np.array([40, 3, 17, 2 * p.n // 3])
+    part = solve.run_op(K.OP_FORM_FACTORS, coarse, solve._query(pts[idx], p.normal[idx], own[idx], own), *args, 1)
+    np.testing.assert_array_equal(part, full[idx])
+    ref = solve.run_op(K.OP_FORM_FACTORS, fine, solve._query(pts, p.normal, own, own), *args, 2)
+    assert np.any(full != 0) and np.any(full < 0.99 * solve.run_op(
+        K.OP_FORM_FACTORS, coarse, solve._query(pts, p.normal, own, own), solve._no_lights(), p.n, 0, 5, eps, 2))
+    assert np.mean(np.abs(full - ref) > 1e-7) < 1e-3  # only grazing rays may differ
+
+
+def test_default_patch_size_follows_the_scene_detail_not_its_size():
+    sc = core.cornell_box()
+    h = solve.default_max_edge(sc)
+    tri, _, _ = meshing.scene_triangles(sc)
+    assert meshing.subdivide(tri, h)[0].shape[0] >= solve.DEFAULT_PATCHES
+    assert meshing.subdivide(tri, 1.02 * h)[0].shape[0] < solve.DEFAULT_PATCHES  # the largest such size
+    for m in sc.meshes:
+        m.positions = np.asarray(m.positions) * 10.0
+    assert solve.default_max_edge(sc) == pytest.approx(10.0 * h, rel=1e-6)
+
+
 def test_stochastic_shooting_hits_follow_the_form_factors_item_58():
     """OP_SHOOT: the share of cosine-distributed rays from a patch that reach each patch is
     F_ij (binomial counts within 4.5 σ)."""
@@ -228,7 +292,13 @@ def test_cancel_and_progress():
                          progress=lambda stage, a, b: seen.append(stage),
                          should_cancel=lambda: sum(s == "solve" for s in seen) >= 3)
     assert sol.stats[0].cancelled and not sol.stats[0].converged
-    assert "direct" in seen and "form factors" in seen
+    stages = list(dict.fromkeys(seen))
+    assert stages == ["patches", "direct", "form factors", "solve"]
+    # Southwell computes its rows while it shoots; the lux integrator also reports its gather
+    seen.clear()
+    lux = solve.lux_integrator(max_edge=0.5, method="southwell", progress=lambda stage, a, b: seen.append(stage))
+    lux(sc, np.array([[0.5, 0.5, 0.0]]), np.array([[0, 0, 1.0]]))
+    assert list(dict.fromkeys(seen)) == ["patches", "direct", "solve", "gather"]
 
 
 # --------------------------------------------------------------------- against the path tracer
@@ -245,3 +315,60 @@ def test_grey_room_against_the_path_tracer_item_53():
     rad = core.radiosity_illuminance(sol, pts, nrm)
     pt, se, _ = core.point_illuminance(sc, pts, nrm, spp=16384, seed=3)
     assert np.all(np.abs(rad - pt) <= 0.01 * pt + 4 * se), (rad, pt, se)
+
+
+def shadow_scene():
+    """A grey floor (2 × 2 m, ρ = 0.5) under a point light, shadowed by a black square plate
+    turned 25° about the vertical (so the shadow's edges cross the mesh's grid)."""
+    sp = SpectrumTable.empty()
+    g = sp.add("grey", flat_reflectance(0.5), C.SPECTRUM_BOUNDED)
+    k = sp.add("black", flat_reflectance(0.0), C.SPECTRUM_BOUNDED)
+    e = sp.add("flat", flat_emission(), C.SPECTRUM_UNBOUNDED)
+    floor = Mesh("floor", np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]], np.float32),
+                 np.array([[0, 1, 2], [0, 2, 3]], np.int32), np.zeros(2, np.int32))
+    a = math.radians(25.0)
+    turn = np.array([[math.cos(a), math.sin(a)], [-math.sin(a), math.cos(a)]])
+    sq = np.array([[-0.3, -0.3], [0.3, -0.3], [0.3, 0.3], [-0.3, 0.3]]) @ turn
+    pos = np.array([[x, y, 0.5] for x, y in sq] + [[x, y, 0.52] for x, y in sq], np.float32)
+    quads = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
+    tris = np.array([t for q in quads for t in ((q[0], q[1], q[2]), (q[0], q[2], q[3]))], np.int32)
+    plate = Mesh("plate", pos, tris, np.ones(len(tris), np.int32))
+    light = Light("bulb", C.LIGHT_POINT, (0.1, 0.05, 1.5), (0, 0, 0), (0, 0, 0), e, 0.0, intensity=100.0)
+    return Scene(meshes=[floor, plate], spectra=sp, materials=[Material("floor", reflectance=g),
+                 Material("plate", reflectance=k)], lights=[light], settings=RenderSettings(spp=4, seed=1))
+
+
+def floor_values(sol, pts):
+    """The per-patch illuminance of the floor's upper patch holding each point (x, y); 0 where
+    the solve dropped the patch (unlit, seeing only the black plate and the sky)."""
+    p = sol.patches
+    up = np.nonzero((p.normal[:, 2] > 0.99) & (np.abs(p.corners[:, 0, 2]) < 1e-9))[0]
+    a, b, c = (p.corners[up, i, :2][None] for i in range(3))
+    x = pts[:, None, :2]
+    d = (b[..., 1] - c[..., 1]) * (a[..., 0] - c[..., 0]) + (c[..., 0] - b[..., 0]) * (a[..., 1] - c[..., 1])
+    l1 = ((b[..., 1] - c[..., 1]) * (x[..., 0] - c[..., 0]) + (c[..., 0] - b[..., 0]) * (x[..., 1] - c[..., 1])) / d
+    l2 = ((c[..., 1] - a[..., 1]) * (x[..., 0] - c[..., 0]) + (a[..., 0] - c[..., 0]) * (x[..., 1] - c[..., 1])) / d
+    inside = (l1 >= -1e-9) & (l2 >= -1e-9) & (1 - l1 - l2 >= -1e-9)
+    return np.where(inside.any(axis=1), sol.illuminance[up[np.argmax(inside, axis=1)]], 0.0)
+
+
+@pytest.mark.slow
+def test_adaptive_refinement_lowers_the_error_at_a_shadow_boundary():
+    """Refinement where neighbouring patches' luminance jumps (meshing.refine) puts the
+    patches along the shadow's edge: against the path tracer on a grid of floor points,
+    the per-patch illuminance of the refined mesh (2482 patches) has an RMS error about a
+    quarter below that of a uniform mesh with more patches (2785): 0.15 against 0.20 of
+    the mean."""
+    sc = shadow_scene()
+    g = (np.arange(40) + 0.5) / 40 * 1.6 - 0.8
+    pts = np.array([[x, y, 0.0] for x in g for y in g])
+    ref, se, _ = core.point_illuminance(sc, pts, np.tile([0, 0, 1.0], (len(pts), 1)), spp=64, seed=2)
+    assert np.median(se / np.maximum(ref, 1.0)) < 0.01  # noise far below the mesh's error
+    uniform = core.radiosity(sc, max_edge=0.1, n_vis=1, n_light=1)
+    refined = core.radiosity(sc, max_edge=0.2, n_vis=1, n_light=1, refine_threshold=0.1, refine_steps=2)
+    assert refined.patches.n <= uniform.patches.n
+
+    def rms(sol):
+        return np.sqrt(np.mean((floor_values(sol, pts) - ref) ** 2)) / ref.mean()
+
+    assert rms(refined) < 0.85 * rms(uniform), (rms(refined), rms(uniform))

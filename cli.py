@@ -589,6 +589,8 @@ def _warn_unlit(unlit, what):
     line = unlit.warning(UNLIT_SHOWN, what)
     if line:
         sys.stderr.write(f"warning: {line}\n")
+
+
 class _RadiosityProgress:
     """``lux --method radiosity``: the stages of the solve on stderr, one line each (on a
     terminal the running stage rewrites its line; otherwise at most one line every two

@@ -400,7 +400,7 @@ def _stochastic(ctx, patches, rho_b, Be_b, H0_b, v_band, rays, tol, max_iter, se
     total = dP @ v_band
     it = 0
     unshot = float(dP.sum(axis=0) @ v_band)
-    done = unshot <= 0
+    done = not unshot > 0  # nothing to shoot, or a power that is not finite (never converged)
     cancelled = False
     rng = np.random.default_rng(seed)
     while not done and it < max_iter:
@@ -429,7 +429,7 @@ def _stochastic(ctx, patches, rho_b, Be_b, H0_b, v_band, rays, tol, max_iter, se
         res = unshot / max(float(total.sum()), 1e-300)
         if progress is not None:
             progress(it, res)
-        done = res <= tol
+        done = res <= tol or not math.isfinite(res)
     B = Be_b + rho_b * H
     res = unshot / max(float(total.sum()), 1e-300)
     return B, H, Hd, [solvers.SolveStats("stochastic", it, res, time.perf_counter() - t0, res <= tol, cancelled)]

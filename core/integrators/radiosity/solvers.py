@@ -90,9 +90,7 @@ def residual(F, rho, E, B, area=None):
         r = E + rho * _matvec(F, B) - B
         num = float(np.sum(area[:, None] * np.abs(r)))
         den = float(np.sum(area[:, None] * np.abs(B)))
-    if not (math.isfinite(num) and math.isfinite(den)):
-        return math.nan
-    return num / den if den > 0 else 0.0
+    return _finite_ratio(num, den)
 
 
 def _loop(name, step, F, rho, E, area, tol, max_iter, progress, should_cancel):
@@ -113,9 +111,17 @@ def _loop(name, step, F, rho, E, area, tol, max_iter, progress, should_cancel):
     return B, SolveStats(name, it, res, time.perf_counter() - t0, res <= tol, cancelled)
 
 
+def _finite_ratio(num, den):
+    """num / den for the residuals: NaN when either is not finite (never converged, see
+    ``residual``), 0 for a zero solution."""
+    if not (math.isfinite(num) and math.isfinite(den)):
+        return math.nan
+    return num / den if den > 0 else 0.0
+
+
 def _relative(area, r, B):
-    den = float(np.sum(area[:, None] * np.abs(B)))
-    return float(np.sum(area[:, None] * np.abs(r))) / den if den > 0 else 0.0
+    with np.errstate(invalid="ignore", over="ignore"):
+        return _finite_ratio(float(np.sum(area[:, None] * np.abs(r))), float(np.sum(area[:, None] * np.abs(B))))
 
 
 def jacobi(F, rho, E, area=None, *, tol=1e-6, max_iter=10000, progress=None, should_cancel=None):
@@ -132,7 +138,7 @@ def jacobi(F, rho, E, area=None, *, tol=1e-6, max_iter=10000, progress=None, sho
         res = _relative(area, nxt - B, B)
         if it > 0 and progress is not None:
             progress(it, res)
-        if res <= tol or it >= max_iter:
+        if not res > tol or it >= max_iter:  # a residual that is not finite (NaN) stops too
             break
         if should_cancel is not None and should_cancel():
             cancelled = True
@@ -224,8 +230,8 @@ def southwell(F, rho, E, area, *, tol=1e-6, max_iter=None, weights=None, progres
     unshot = area * (np.abs(dB) @ w)
 
     def res_now():
-        den = float(np.sum(area * (np.abs(B) @ w)))
-        return float(unshot.sum()) / den if den > 0 else 0.0
+        with np.errstate(invalid="ignore", over="ignore"):
+            return _finite_ratio(float(unshot.sum()), float(np.sum(area * (np.abs(B) @ w))))
 
     shots = 0
     res = res_now()

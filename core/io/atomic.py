@@ -5,17 +5,52 @@ JSON and its arrays, a render's EXR and its PNG preview) together: each is first
 in full to a temporary file beside its target, then all are renamed into place; if a
 rename fails, the targets already replaced are given their old content back. Temporary
 files have unpredictable names (``tempfile.mkstemp``) and are removed on every exit path
-that runs Python code (an exception, ``KeyboardInterrupt``, ``SystemExit``).
+that runs Python code (an exception, ``KeyboardInterrupt``, ``SystemExit``). A process
+killed outright (SIGKILL, a power cut) cannot remove its own: each temporary name carries
+the writer's host and process id, and the next write of the same target on that host
+removes the ones whose process is gone (those of other hosts, which may share the folder,
+and of running processes are left alone).
 """
 import contextlib
 import os
+import re
+import socket
 import tempfile
 from pathlib import Path
+
+_HOST = re.sub(r"[^A-Za-z0-9-]", "-", socket.gethostname())[:64] or "host"
+
+
+def _process_gone(pid):
+    if pid <= 0:
+        return False
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return True
+    except OSError:  # it exists (another user's) or cannot be asked about: keep its file
+        return False
+    return False
+
+
+def _sweep_stale(path):
+    """Remove the temporary files of ``path`` left by killed writers on this host."""
+    head = "." + path.name + "." + _HOST + "."
+    with contextlib.suppress(OSError):
+        for entry in os.scandir(path.parent):
+            name = entry.name
+            if not name.startswith(head):
+                continue
+            pid = name[len(head):].split("-", 1)[0]
+            if pid.isdigit() and int(pid) != os.getpid() and _process_gone(int(pid)):
+                _remove(entry.path)
 
 
 def _temp_beside(path, tag="tmp"):
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix="." + path.name + ".", suffix=f".{tag}" + path.suffix, dir=path.parent)
+    _sweep_stale(path)
+    prefix = f".{path.name}.{_HOST}.{os.getpid()}-"
+    fd, tmp = tempfile.mkstemp(prefix=prefix, suffix=f".{tag}" + path.suffix, dir=path.parent)
     os.close(fd)
     umask = os.umask(0)
     os.umask(umask)

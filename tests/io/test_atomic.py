@@ -71,6 +71,36 @@ def test_temporary_names_are_unpredictable(tmp_path):
     assert len(names) == 20
 
 
+def test_temporary_files_of_killed_writers_are_removed_by_the_next_write(tmp_path):
+    """A writer killed outright (SIGKILL) leaves its temporary file; the next write of the same
+    target on this host removes it, and leaves those of running processes and other hosts."""
+    import signal
+    import subprocess
+    import sys
+
+    target = tmp_path / "render.exr"
+    code = ("import os, sys; from spectral_gi.core.io import atomic; "
+            "cm = atomic.atomic_path(sys.argv[1]); tmp = cm.__enter__(); open(tmp, 'wb').write(b'half'); "
+            "print(tmp, flush=True); os.kill(os.getpid(), 9)")
+    killed = subprocess.run([sys.executable, "-c", code, str(target)], capture_output=True, text=True)
+    assert killed.returncode == -signal.SIGKILL
+    stale = tmp_path / killed.stdout.strip().rsplit("/", 1)[-1]
+    assert stale.is_file() and not target.exists()
+    live = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    try:
+        running = tmp_path / f".render.exr.{atomic._HOST}.{live.pid}-abc.tmp.exr"
+        other_host = tmp_path / ".render.exr.elsewhere.1-abc.tmp.exr"
+        other_target = tmp_path / f".other.exr.{atomic._HOST}.{2 ** 22 + 1}-abc.tmp.exr"
+        for p in (running, other_host, other_target):
+            p.write_bytes(b"x")
+        atomic.write_bytes(target, b"whole")
+        assert target.read_bytes() == b"whole"
+        assert not stale.exists() and running.exists() and other_host.exists() and other_target.exists()
+    finally:
+        live.kill()
+        live.wait()
+
+
 def test_a_scene_save_that_fails_after_the_arrays_keeps_the_old_pair(tmp_path, monkeypatch):
     path = S.save(furnace_scene(), tmp_path / "s.json")
     before = path.read_bytes(), path.with_suffix(".npz").read_bytes()

@@ -29,7 +29,7 @@ from ..bsdfs.params import (
 from ..bsdfs.phong import lambert_sample_dir
 from ..media import kernel as media
 from ..textures import kernel as tex
-from ..geometry.bvh import STACK_SIZE, trace_closest, triangle_normal, uidx
+from ..geometry.bvh import STACK_SIZE, trace_closest, trace_occluded, triangle_normal, uidx
 from ..camera.kernel import CAM_LENS_R, camera_ray
 from ..lights.kernel import env_lookup, env_sample, hit_light, sample_light, sun_hit
 from ..sampling.qmc import pixel_seed, qmc_sample
@@ -897,7 +897,7 @@ def _surface_material(mat, txr, cfg, scr, m, prim, bu, bv, sn, d, cos_i):
     snx, sny, snz = sn
     _lookup_material(m, scr.lc, lf, mat.spec, mat.ior_tab, mat.ra, mat.rb, mat.eta, mat.kappa, mat.ior,
                      work[4], work[5], work[6], work[7])
-    if has_tex:
+    if txr is not None and has_tex:  # txr None: a scene without textures (the branch is not compiled)
         mat_tex = txr.mat_tex
         if mat_tex[m, 0] >= 0 or mat_tex[m, 1] >= 0 or mat_tex[m, 2] >= 0:
             tex_base, rough, cr, cg, cb, snx, sny, snz = _textures(
@@ -930,12 +930,12 @@ def _shading_frame(sn, d):
 def _albedo(mat, txr, m, tex_base, rgb, mix_w, axyz):
     """The albedo AOV's XYZ at the first diffuse or glossy hit: the textured base colour's
     (rgb weighing the reflectance basis rows) or material m's ρa, times the mix weight; axyz
-    (the values so far) when it has neither."""
+    (the values so far) when it has neither; txr None: a scene without textures."""
     spec_alb = mat.spec_alb
-    tex_row = txr.tex_row
-    cr, cg, cb = rgb
     aX, aY, aZ = axyz
-    if tex_base:
+    if txr is not None and tex_base:
+        tex_row = txr.tex_row
+        cr, cg, cb = rgb
         aX = mix_w * (cr * spec_alb[tex_row, 0] + cg * spec_alb[tex_row + 1, 0]
                       + cb * spec_alb[tex_row + 2, 0])
         aY = mix_w * (cr * spec_alb[tex_row, 1] + cg * spec_alb[tex_row + 1, 1]
@@ -1004,9 +1004,13 @@ def _surface_nee(geo, mat, emt, med, st, smp, cfg, scr, dim, hit, shade, prim, m
             soy = py + side * eps * ny
             soz = pz + side * eps * nz
             tmax_s = _shadow_tmax(dist, eps, emit_tri[ei], sox, soy, soz, wx, wy, wz, v0, e1, e2)
-            if media.unoccluded(has_media, (sox, soy, soz), (wx, wy, wz), tmax_s, vol,
-                                med.mat_medium[geo.tri_mat[prim]], cos_i, cos_n, lam, scr.mw, fv, geo,
-                                mat.model, med, eps, scr.stack):
+            if med is None:  # a scene without media: the plain any-hit query (the media code is not compiled)
+                visible = not trace_occluded(sox, soy, soz, wx, wy, wz, 0.0, tmax_s, geo.nodes, geo.tris, scr.stack)
+            else:
+                visible = media.unoccluded(has_media, (sox, soy, soz), (wx, wy, wz), tmax_s, vol,
+                                           med.mat_medium[geo.tri_mat[prim]], cos_i, cos_n, lam, scr.mw, fv, geo,
+                                           mat.model, med, eps, scr.stack)
+            if visible:
                 pe = emt.emit_prob[ei]
                 if lpdf == np.inf:  # delta light: NEE only, no MIS
                     g = mix_w * abs(cos_n) * fac / pe
@@ -1080,7 +1084,7 @@ def _next_ray(geo, med, cfg, scr, hit, shade, wi, prim, vol):
     ox = px + side * eps * nx
     oy = py + side * eps * ny
     oz = pz + side * eps * nz
-    if has_media and (cgeo > 0.0) != (cos_i > 0.0):  # transmitted: into or out of the interior
+    if med is not None and has_media and (cgeo > 0.0) != (cos_i > 0.0):  # transmitted: into or out of the interior
         medium, outer = media.cross(medium, outer, med.mat_medium[geo.tri_mat[prim]], cgeo < 0.0, med.med_tab,
                                     scr.work[0], scr.mw)
     return True, ox, oy, oz, dx, dy, dz, medium, outer
@@ -1108,7 +1112,10 @@ def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr):
     The records (each field documented where it is defined): fr core/film/record.py, geo
     core/geometry/record.py, mat core/bsdfs/record.py, emt core/lights/record.py, med
     core/media/record.py, txr core/textures/record.py, camr core/camera/record.py, st
-    core/integrators/settings.py, scr ``Scratch``.
+    core/integrators/settings.py, scr ``Scratch``. med and txr are None for a scene without
+    media (and null surfaces) or without image textures (``render.kernel_records``): numba
+    prunes the branches on ``med is None`` and ``txr is None`` at compile time, so the
+    kernel for such a scene (the Cornell box) compiles none of the media or texture code.
 
     A serial kernel that releases the GIL: the renderer runs blocks of rows on a pool of
     Python threads (compiling a prange kernel takes four times as long, and numba's
@@ -1130,9 +1137,18 @@ def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr):
     # counted with weight 1), against which tests check the NEE + MIS estimator
     do_nee = st.nee != 0 and emt.emit_prob.shape[0] > 0
     eps = EPS_REL * st.scene_scale
-    has_media = med.med_tab.shape[0] > 0
+    # med None, txr None: a scene without media (or null surfaces), without image textures;
+    # numba prunes the branches on them, so that kernel compiles none of their code
+    has_media = False
+    cam_medium = np.int64(-1)
+    if med is not None:
+        has_media = med.med_tab.shape[0] > 0
+        cam_medium = med.cam_medium
+    has_tex = False
+    if txr is not None:
+        has_tex = txr.tri_tex.shape[0] > 0
     # (do NEE, ray offset, media present, textures present)
-    cfg = (do_nee, eps, has_media, txr.tri_tex.shape[0] > 0)
+    cfg = (do_nee, eps, has_media, has_tex)
     thin_lens = camr.cam[CAM_LENS_R] > 0.0
     # a 4th cmf column is V(λ) (an observer other than CIE 1931): the film's channel 5 sums
     # the photometric Y and channel 4 its square; else Y is photometric (5 channels)
@@ -1155,16 +1171,16 @@ def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr):
                 dispersed = False
                 alb_done = False
                 axyz = (0.0, 0.0, 0.0)
-                medium = med.cam_medium
+                medium = cam_medium
                 outer = np.int64(-1)  # np.int64: a literal -1 would compile media.shadow/nee/cross twice
                 transp = 0.0
                 t_lo = 0.0  # the ray goes on from here after passing null surfaces
-                if has_media:
+                if med is not None and has_media:
                     media.start_path(med.med_tab, medium, scr.work[0], scr.mw)
                 while True:
                     t, prim, bu, bv, t_end, dim = _segment(geo, mat, emt, st, smp, cfg, scr, (ox, oy, oz),
                                                            (dx, dy, dz), t_lo, medium, depth, dim, prev_delta, prev_pdf)
-                    if medium >= 0:
+                    if med is not None and medium >= 0:
                         if t_end < t:  # a scattering event in the medium
                             alive, ox, oy, oz, dx, dy, dz, prev_pdf, depth, dim = _medium_scatter(
                                 geo, mat, emt, med, st, smp, cfg, scr, (ox, oy, oz), (dx, dy, dz), (t, t_end, t_lo),
@@ -1186,8 +1202,9 @@ def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr):
                     if not ok:
                         break
                     if mat.model[geo.tri_mat[prim]] == C.MAT_NULL:  # only bounds a medium: go straight on
-                        medium, outer = media.cross(medium, outer, med.mat_medium[geo.tri_mat[prim]], cos_i > 0.0,
-                                                    med.med_tab, scr.work[0], scr.mw)
+                        if med is not None:
+                            medium, outer = media.cross(medium, outer, med.mat_medium[geo.tri_mat[prim]], cos_i > 0.0,
+                                                        med.med_tab, scr.work[0], scr.mw)
                         t_lo = t + eps
                         continue
                     sn = _shading_normal(geo, prim, bu, bv, (nx, ny, nz), (dx, dy, dz), cos_i)

@@ -90,11 +90,22 @@ def prepare(scene: Scene, measure=False, bvh=None) -> Prepared:
                     camera_record.pack(scene), settings_record.pack(scene.settings, sensor_mat, scale))
 
 
+def kernel_records(prep):
+    """The media and texture records as the path kernel takes them: None for a scene without
+    media (and null surfaces) or without image textures, so that its kernel is compiled
+    without their code (numba prunes the branches on a None argument and compiles one
+    specialisation per combination, each cached)."""
+    med = prep.media if prep.media.med_tab.shape[0] > 0 else None
+    txr = prep.textures if prep.textures.tri_tex.shape[0] > 0 else None
+    return med, txr
+
+
 def _rows(prep, film, y0, y1, s0, s1):
     from .path import render_rows, scratch
 
+    med, txr = kernel_records(prep)
     render_rows(int(y0), int(y1), int(s0), int(s1), film_record.pack(film, prep.cmf), prep.geometry,
-                prep.materials, prep.emitters, prep.media, prep.textures, prep.camera, prep.settings,
+                prep.materials, prep.emitters, med, txr, prep.camera, prep.settings,
                 scratch(prep.materials.params.shape[1]))
 
 

@@ -30,11 +30,11 @@ import subprocess
 import sys
 
 # compiled by the second process: the BSDF dispatch (every model's eval and sample), the
-# emitter sampling, the scattering in media, the image textures, the film add (with its
-# splat) and the sampler's draws; this process builds the BVH (compiling its builder) and
-# compiles the rest of the helpers meanwhile
-HELPER_GROUP = frozenset({"bsdf_eval", "bsdf_sample", "_emitter_sample", "_medium_scatter", "_textures",
-                          "_film_add", "rnd_f", "rnd2"})
+# emitter sampling, the film add (with its splat) and the sampler's draws; this process
+# builds the BVH (compiling its builder) and compiles the rest of the helpers meanwhile.
+# The plan is the Cornell box's kernel (no media, no image textures: core/integrators/path.py
+# render_rows), so neither the scattering in media nor the textures are in it
+HELPER_GROUP = frozenset({"bsdf_eval", "bsdf_sample", "_emitter_sample", "_film_add", "rnd_f", "rnd2"})
 
 _PKG = __name__.rsplit(".core.", 1)[0]
 _ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -62,6 +62,7 @@ def _types_namespace():
     ns = dict(vars(types))
     ns["bool"] = types.boolean
     ns["Record"] = _record_type
+    ns["literal"] = types.literal
     return ns
 
 
@@ -76,13 +77,18 @@ def _record_type(mod, name, field_types):
 
 def _type_repr(ty):
     """numba's repr of a type, which ``plan`` evaluates back, but for records (named tuples):
-    ``Record(module under core, class name, (field types,))``."""
+    ``Record(module under core, class name, (field types,))``, tuples holding them, and
+    literals (a flag the kernel's branch pruning left constant): ``literal(value)``."""
     from numba.core import types
 
     if isinstance(ty, types.BaseNamedTuple):
         cls = ty.instance_class
         fields = "".join(_type_repr(t) + ", " for t in ty.types)
         return f"Record({cls.__module__.split('.core.', 1)[1]!r}, {cls.__name__!r}, ({fields.rstrip()}))"
+    if isinstance(ty, types.Literal):
+        return f"literal({ty.literal_value!r})"
+    if isinstance(ty, types.Tuple) and any(isinstance(t, types.Literal) for t in ty.types):
+        return "Tuple((" + "".join(_type_repr(t) + ", " for t in ty.types).rstrip(", ") + "))"
     return repr(ty)
 
 
@@ -230,8 +236,10 @@ def finish(proc, grace=0.0):
 
 def record():
     """The helpers the path kernel calls and their argument types, from numba's type
-    inference of the kernel for the argument types of its last compile or cache load in
-    this process (render something first). [(module under core, name, types repr)]."""
+    inference of the kernel for the argument types of a compile or cache load in this
+    process (render something first): those of a scene without media and textures (the
+    Cornell box: its media and texture records None) when there is one, else the last.
+    [(module under core, name, types repr)]."""
     from numba.core import compiler, types
     from numba.core.compiler import CompilerBase, DefaultPassBuilder
     from numba.core.registry import cpu_target
@@ -256,7 +264,8 @@ def record():
     cctx = cpu_target.target_context
     tctx.refresh()
     cctx.refresh()
-    c = _TypeOnly(tctx, cctx, None, render_rows.signatures[-1], None, flags, {})
+    sigs = [s for s in render_rows.signatures if isinstance(s[8], types.NoneType) and isinstance(s[9], types.NoneType)]
+    c = _TypeOnly(tctx, cctx, None, (sigs or render_rows.signatures)[-1], None, flags, {})
     try:
         c.compile_extra(render_rows.py_func)
     except AttributeError:  # no lowering in this pipeline: no compile result to return

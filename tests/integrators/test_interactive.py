@@ -30,19 +30,16 @@ def _session(**kw):
 @pytest.mark.slow
 def test_frames_go_coarse_to_fine_and_converge_to_the_final_render():
     scene = cornell_box(width=32, height=24, spp=6, max_depth=4)
-    s = _session()
-    sizes = []
+    published = []  # every frame the worker publishes, in order (polling may miss one under load)
+    s = _session(on_frame=lambda fr: published.append((fr.generation, fr.pixel_size, fr.spp)))
     try:
         gen = s.update(scene=scene)
-        seen = set()
         while True:
             f = s.wait_frame(gen, timeout=600)
             assert f is not None, s.error
-            if (f.pixel_size, f.spp) not in seen:
-                seen.add((f.pixel_size, f.spp))
-                sizes.append(f.pixel_size)
             if f.pixel_size == 1 and f.spp >= 6:
                 break
+        sizes = [size for g, size, _spp in published if g == gen]
         assert sizes[:3] == [4, 2, 1]
         assert s.converged
         assert s.counters.bvh_builds == 1

@@ -30,6 +30,7 @@ Thin lens (Cycles' model): the pinhole ray through the pixel fixes the point in 
 at depth ``focus_distance``; the ray starts at a uniform point of the lens disc of
 radius lens_mm / (2 f-number) (concentric map) and passes through that point.
 """
+import functools
 import math
 
 import numpy as np
@@ -79,9 +80,11 @@ def filter_function(kind, width, x):
     return np.where(inside, np.maximum(f, 0.0), 0.0)
 
 
+@functools.lru_cache(maxsize=16)
 def filter_table(kind, width):
     """Guided 1D piecewise-constant distribution of the filter over [−width/2, width/2] (cell
-    means)."""
+    means). Cached: one table per (kind, width), shared by every record that holds it (read
+    only); a point measure's prepare packs the camera record too."""
     n = FILTER_CELLS
     sub = 8
     x = (np.arange(n * sub) + 0.5) / (n * sub) - 0.5

@@ -400,23 +400,20 @@ def _render(args, stop):
     png = out.with_suffix(".png")
     resume = None
     bins = args.spectral_bins
-    if args.resume:
-        try:
-            resume = Film.load(args.resume)
-        except ValueError as e:
-            raise SceneError(f"--resume: {e}") from None
-        if bins and bins != resume.spectral_bins:
-            raise SceneError(f"--spectral-bins {bins}: the film to resume has {resume.spectral_bins} spectral bins")
-        bins = 0
 
-    if resume is None and args.checkpoint and Path(args.checkpoint).is_file():
+    def load_film(path, option, what):
         try:
-            resume = Film.load(args.checkpoint)
+            film = Film.load(path)
         except ValueError as e:
-            raise SceneError(f"--checkpoint: {e}") from None
-        if bins and bins != resume.spectral_bins:
-            raise SceneError(f"--spectral-bins {bins}: the checkpoint has {resume.spectral_bins} spectral bins")
-        bins = 0
+            raise SceneError(f"{option}: {e}") from None
+        if bins and bins != film.spectral_bins:
+            raise SceneError(f"--spectral-bins {bins}: {what} has {film.spectral_bins} spectral bins")
+        return film
+
+    if args.resume:
+        resume, bins = load_film(args.resume, "--resume", "the film to resume"), 0
+    if resume is None and args.checkpoint and Path(args.checkpoint).is_file():
+        resume, bins = load_film(args.checkpoint, "--checkpoint", "the checkpoint"), 0
     check_render_inputs(scene, bins, resume)  # before anything is printed: one line if it fails
     bar = _Progress()
     title = scene.metadata.get("name", args.scene or "scene")

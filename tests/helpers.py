@@ -231,3 +231,19 @@ def recording_layout(props, labels=None, operators=None):
     if operators is not None:
         lay.operator.side_effect = lambda idname, **kw: operators.append(idname) or mock.MagicMock()
     return lay
+
+
+def floor_cube_scene(b, w=16, h=16, spp=4):
+    """The add-on tests' small engine scene through builder ``b``: a grey floor, a red cube under an area
+    light, seen from the front. Returns the light and the red material."""
+    grey = b.shader("Grey", "ShaderNodeBsdfDiffuse", Color=(0.6, 0.6, 0.6, 1.0))
+    red = b.shader("Red", "ShaderNodeBsdfDiffuse", Color=(0.7, 0.1, 0.1, 1.0))
+    b.plane("Floor", size=6.0, material=grey)
+    b.cube("Cube", size=1.0, location=(0, 0, 0.5), material=red)
+    key = b.light("Key", "AREA", location=(0, 0, 3), energy=200.0, size=1.0)
+    b.camera(location=(0, -6, 2), rotation=(math.radians(75), 0, 0), lens=30.0)
+    b.resolution(w, h)
+    s = b.scene.spectral_gi
+    s.samples, s.max_bounces, s.seed = spp, 8, 3
+    b.scene.render.engine = "SPECTRAL_GI"
+    return key, red

@@ -5,25 +5,11 @@ import math
 import numpy as np
 import pytest
 
-from helpers import recording_layout
+from helpers import floor_cube_scene, recording_layout
 
 pytestmark = pytest.mark.blender
 
 MODULE = "bl_ext.user_default.spectral_gi"
-
-
-def scene_with(b, spp=4, w=12, h=10):
-    grey = b.shader("Grey", "ShaderNodeBsdfDiffuse", Color=(0.6, 0.6, 0.6, 1.0))
-    red = b.shader("Red", "ShaderNodeBsdfDiffuse", Color=(0.7, 0.1, 0.1, 1.0))
-    b.plane("Floor", size=6.0, material=grey)
-    b.cube("Cube", size=1.0, location=(0, 0, 0.5), material=red)
-    key = b.light("Key", "AREA", location=(0, 0, 3), energy=200.0, size=1.0)
-    b.camera(location=(0, -6, 2), rotation=(math.radians(75), 0, 0), lens=30.0)
-    b.resolution(w, h)
-    s = b.scene.spectral_gi
-    s.samples, s.max_bounces, s.seed = spp, 8, 3
-    b.scene.render.engine = "SPECTRAL_GI"
-    return key, red
 
 
 def read_multilayer(path):
@@ -58,7 +44,7 @@ def write_reflectance(path, rho_blue=0.8, rho_red=0.05, percent=False):
 
 def test_scene_settings_reach_the_core_scene(ext, bpy):
     b = ext.build
-    scene_with(b)
+    floor_cube_scene(b, w=12, h=10)
     s = b.scene.spectral_gi
     assert (s.colour_space, s.observer, s.fourier_order) == ("REC709", "CIE1931", 12)
     st = b.export(ext).scene.settings
@@ -79,7 +65,7 @@ def test_scene_settings_reach_the_core_scene(ext, bpy):
 @pytest.mark.parametrize("order", [3, 5, 12, 16])
 def test_fourier_order_sets_the_width_of_every_spectrum(ext, bpy, order):
     b = ext.build
-    key, red = scene_with(b)
+    key, red = floor_cube_scene(b, w=12, h=10)
     key.data.spectral_gi.spectrum, key.data.spectral_gi.temperature = "BLACKBODY", 3000.0
     patch = b.principled("Patch")
     patch.spectral_gi.model, patch.spectral_gi.spectrum = "LAMBERT", "PRESET"
@@ -97,7 +83,7 @@ def test_fourier_order_sets_the_width_of_every_spectrum(ext, bpy, order):
 @pytest.mark.slow
 def test_acescg_output_is_a_pass_and_combined_stays_rec709(ext, bpy, tmp_path):
     b = ext.build
-    scene_with(b)
+    floor_cube_scene(b, w=12, h=10)
     b.scene.spectral_gi.colour_space = "ACESCG"
     vl = bpy.context.view_layer
     vl.spectral_gi.use_pass_luminance = True
@@ -121,7 +107,7 @@ def test_acescg_output_is_a_pass_and_combined_stays_rec709(ext, bpy, tmp_path):
 @pytest.mark.slow
 def test_observer_keeps_the_luminance_pass(ext, bpy, tmp_path):
     b = ext.build
-    scene_with(b)
+    floor_cube_scene(b, w=12, h=10)
     bpy.context.view_layer.spectral_gi.use_pass_luminance = True
     bpy.context.view_layer.spectral_gi.use_pass_xyz = True
     got = {}
@@ -135,7 +121,7 @@ def test_observer_keeps_the_luminance_pass(ext, bpy, tmp_path):
 
 def test_material_spectrum_file(ext, bpy, tmp_path):
     b = ext.build
-    scene_with(b)
+    floor_cube_scene(b, w=12, h=10)
     mat = b.principled("Measured", rgb=(0.2, 0.9, 0.2))
     s = mat.spectral_gi
     s.model, s.spectrum = "LAMBERT", "FILE"
@@ -164,7 +150,7 @@ def test_material_spectrum_file(ext, bpy, tmp_path):
 
 def test_light_spectrum_file(ext, bpy, tmp_path):
     b = ext.build
-    key, _ = scene_with(b)
+    key, _ = floor_cube_scene(b, w=12, h=10)
     path = tmp_path / "led.txt"
     path.write_text("# a narrow blue LED\n" + "".join(
         f"{w} {math.exp(-0.5 * ((w - 450) / 12) ** 2):.6f}\n" for w in range(360, 831, 2)))
@@ -189,7 +175,7 @@ def test_panels_draw_the_new_settings(ext, bpy):
     from unittest import mock
 
     b = ext.build
-    key, red = scene_with(b)
+    key, red = floor_cube_scene(b, w=12, h=10)
     drawn = []
 
     def layout():

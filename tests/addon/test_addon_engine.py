@@ -1,31 +1,16 @@
 """The SPECTRAL_GI RenderEngine: F12 renders with passes, cancel, animation, errors, panels."""
 import importlib
-import math
 
 import numpy as np
 import pytest
 
-from helpers import recording_layout
+from helpers import floor_cube_scene, recording_layout
 
 pytestmark = pytest.mark.blender
 
 MODULE = "bl_ext.user_default.spectral_gi"
 ALL_PASSES = ("use_pass_xyz", "use_pass_luminance", "use_pass_lab", "use_pass_variance", "use_pass_albedo",
               "use_pass_normal", "use_pass_depth")
-
-
-def engine_scene(b, w=16, h=16, spp=4):
-    grey = b.shader("Grey", "ShaderNodeBsdfDiffuse", Color=(0.6, 0.6, 0.6, 1.0))
-    red = b.shader("Red", "ShaderNodeBsdfDiffuse", Color=(0.7, 0.1, 0.1, 1.0))
-    b.plane("Floor", size=6.0, material=grey)
-    b.cube("Cube", size=1.0, location=(0, 0, 0.5), material=red)
-    key = b.light("Key", "AREA", location=(0, 0, 3), energy=200.0, size=1.0)
-    b.camera(location=(0, -6, 2), rotation=(math.radians(75), 0, 0), lens=30.0)
-    b.resolution(w, h)
-    s = b.scene.spectral_gi
-    s.samples, s.max_bounces, s.seed = spp, 8, 3
-    b.scene.render.engine = "SPECTRAL_GI"
-    return key
 
 
 def read_multilayer(path):
@@ -72,7 +57,7 @@ def test_engine_is_registered_with_its_panels(ext, bpy):
 
 def test_f12_render_gives_every_pass_with_the_core_values(ext, bpy, tmp_path):
     b = ext.build
-    engine_scene(b)
+    floor_cube_scene(b)
     vl = bpy.context.view_layer
     for prop in ALL_PASSES:
         setattr(vl.spectral_gi, prop, True)
@@ -115,7 +100,7 @@ def test_f12_render_gives_every_pass_with_the_core_values(ext, bpy, tmp_path):
 
 def test_cancel_mid_render_keeps_the_partial_result(ext, bpy, tmp_path, monkeypatch):
     b = ext.build
-    engine_scene(b, spp=512)
+    floor_cube_scene(b, spp=512)
     seen = {"passes": 0}
     real_render = ext.core.render
 
@@ -146,7 +131,7 @@ def test_animation_renders_every_frame(ext, bpy, tmp_path):
     """Two frames with the light's power keyframed 100 W → 400 W: with the same seed the paths are
     the same, and the transport is linear in the emitted power, so frame 2 is exactly 4× frame 1."""
     b = ext.build
-    key = engine_scene(b, spp=2)
+    key, _ = floor_cube_scene(b, spp=2)
     scene = b.scene
     key.data.energy = 100.0
     key.data.keyframe_insert("energy", frame=1)
@@ -196,7 +181,7 @@ def test_export_errors_are_reported_not_raised(ext, bpy, tmp_path):
 
 def test_transparent_film(ext, bpy, tmp_path):
     b = ext.build
-    engine_scene(b, spp=2)
+    floor_cube_scene(b, spp=2)
     b.scene.render.film_transparent = True
     render_still(bpy, tmp_path / "alpha.exr")
     ch = read_multilayer(tmp_path / "alpha.exr")
@@ -216,7 +201,7 @@ def test_panels_draw_for_every_light_type(ext, bpy):
     from unittest import mock
 
     b = ext.build
-    engine_scene(b)
+    floor_cube_scene(b)
     ctx = bpy.context
     drawn = []
 
@@ -241,7 +226,7 @@ def test_panels_draw_for_every_light_type(ext, bpy):
 def test_white_balance_to_the_light(ext, bpy, tmp_path):
     """A grey floor under a 2700 K blackbody: orange without white balance, neutral with it."""
     b = ext.build
-    key = engine_scene(b, spp=16)
+    key, _ = floor_cube_scene(b, spp=16)
     s = key.data.spectral_gi
     s.spectrum, s.temperature = "BLACKBODY", 2700.0
     means = {}
@@ -262,7 +247,7 @@ def test_time_limit_stops_the_engine_early(ext, bpy, tmp_path):
     if "stop_reason" not in getattr(ext.core.RenderStats, "__dataclass_fields__", {}):
         pytest.skip("this core does not stop at settings.time_limit")
     b = ext.build
-    engine_scene(b, spp=1 << 20)
+    floor_cube_scene(b, spp=1 << 20)
     b.scene.spectral_gi.time_limit = 1.0
     render_still(bpy, tmp_path / "timed.exr")
     message = ext.render_job.STATE.message

@@ -6,8 +6,11 @@ pattern computed here matches the one Cycles renders for the same coordinates. T
 algorithms follow Cycles' kernel (``intern/cycles/kernel/svm/`` and ``util/hash.h`` in
 Blender 5.0): Bob Jenkins' lookup3 hash on the bits of single-precision coordinates,
 Perlin's gradient noise with Cycles' gradient sets and output scales, the fractal
-variants of the Noise node, the fractal Voronoi of Blender 4+, and the Wave, Magic,
-Checker, Brick, Gradient and White Noise nodes.
+variants of the Noise node, the fractal Voronoi of Blender 4+ (its 2D to 4D cells hashed
+by PCG of their integer coordinates, Jarzynski and Olano, JCGT 9(3) 2020, its 1D cells by
+lookup3 of the float coordinate), and the Wave, Magic, Checker, Brick, Gradient and White
+Noise nodes. ``tests/shading/test_procedural_cycles.py`` renders each with Cycles and
+compares pixel for pixel.
 
 Cycles computes in single precision. Here every value that is hashed or floored (the
 scaled coordinates, the fractal octaves' scaled points, the distorted points, the random
@@ -63,7 +66,7 @@ _TWO_PI_F = float(np.float32(2.0 * math.pi))
 _HALF_PI_F = float(np.float32(0.5 * math.pi))
 _EPS_F = float(np.float32(1e-6))
 _SHRINK_F = float(np.float32(0.999999))
-_GAIN_INV = 2.0 ** -32
+_TWO_POW_M32 = 2.0 ** -32
 
 
 @intrinsic
@@ -163,7 +166,7 @@ def hash_uint4(kx, ky, kz, kw):
 @inline
 def _unit(n):
     """Cycles' ``uint_to_float_incl``: the hash rounded to float32, times 2**-32, in [0, 1]."""
-    return np.float64(np.float32(n)) * _GAIN_INV
+    return np.float64(np.float32(n)) * _TWO_POW_M32
 
 
 @inline

@@ -18,6 +18,10 @@ seed offsets) is rounded to single precision exactly where Cycles rounds it, so 
 cells and hashes are the same bits; the smooth arithmetic in between runs in double
 precision and differs from Cycles' by rounding only (about 1e-7 relative).
 
+The textures are small ``inline`` entry points; the lattice work they repeat (Perlin
+noise, the fractal noise types, the Voronoi octaves) is in ``function`` helpers compiled
+once each, so a caller's compile does not grow with every inlined copy.
+
 The integer tags follow the order of Cycles' enums; the ``*_TYPES`` dictionaries map
 the identifiers of the bpy enum properties to them. Every function listed in
 ``__all__`` is complete.
@@ -29,7 +33,7 @@ from llvmlite import ir
 from numba.core import types
 from numba.extending import intrinsic
 
-from ..jit import inline
+from ..jit import function, inline
 
 __all__ = [
     "hash_uint", "hash_uint2", "hash_uint3", "hash_uint4",
@@ -422,7 +426,7 @@ def _wrap(p):
     return _f32(np.fmod(p, 100000.0) + corr)
 
 
-@inline
+@function
 def perlin_signed(p0, p1, p2, p3, dims):
     """Cycles' signed Perlin noise ``snoise_{1,2,3,4}d``, about [-1, 1].
 
@@ -533,7 +537,7 @@ def _ridged_multi_fractal(p0, p1, p2, p3, dims, detail, roughness, lacunarity, o
     return value
 
 
-@inline
+@function
 def _noise_select(p0, p1, p2, p3, dims, noise_type, detail, roughness, lacunarity, offset, gain, normalize):
     if noise_type == NOISE_MULTIFRACTAL:
         return _multi_fractal(p0, p1, p2, p3, dims, detail, roughness, lacunarity)
@@ -662,7 +666,7 @@ def _cell(p0, p1, p2, p3):
     return c0, c1, c2, c3, p0 - c0, p1 - c1, p2 - c2, p3 - c3
 
 
-@inline
+@function
 def _voronoi_f(p0, p1, p2, p3, dims, metric, exponent, randomness, second):
     """One octave of F1 (``second`` false) or F2: (distance, r, g, b, position 0..3)."""
     c0, c1, c2, c3, l0, l1, l2, l3 = _cell(p0, p1, p2, p3)
@@ -693,7 +697,7 @@ def _voronoi_f(p0, p1, p2, p3, dims, metric, exponent, randomness, second):
     return d1, r, g, b, q1[0] + c0, q1[1] + c1, q1[2] + c2, q1[3] + c3
 
 
-@inline
+@function
 def _voronoi_smooth_f1(p0, p1, p2, p3, dims, metric, exponent, randomness, smoothness):
     """One octave of Smooth F1: (distance, r, g, b, position 0..3)."""
     c0, c1, c2, c3, l0, l1, l2, l3 = _cell(p0, p1, p2, p3)
@@ -722,7 +726,7 @@ def _voronoi_smooth_f1(p0, p1, p2, p3, dims, metric, exponent, randomness, smoot
     return sd, sr, sg, sb, c0 + s0, c1 + s1, c2 + s2, c3 + s3
 
 
-@inline
+@function
 def _voronoi_edge(p0, p1, p2, p3, dims, randomness):
     """One octave of Distance to Edge."""
     c0, c1, c2, c3, l0, l1, l2, l3 = _cell(p0, p1, p2, p3)
@@ -763,7 +767,7 @@ def _voronoi_edge(p0, p1, p2, p3, dims, randomness):
     return best
 
 
-@inline
+@function
 def _voronoi_radius(p0, p1, p2, p3, dims, randomness):
     """N-Sphere Radius: half the distance from the closest point to its closest neighbour."""
     c0, c1, c2, c3, l0, l1, l2, l3 = _cell(p0, p1, p2, p3)

@@ -1020,8 +1020,8 @@ def checker_texture(x, y, z, scale, r1, g1, b1, r2, g2, b2):
     yi = abs(np.int64(np.floor(_f32(_f32(_f32(y * scale) + _EPS_F) * _SHRINK_F))))
     zi = abs(np.int64(np.floor(_f32(_f32(_f32(z * scale) + _EPS_F) * _SHRINK_F))))
     if ((xi % 2) == (yi % 2)) == (zi % 2 == 1):
-        return r1, g1, b1, 1.0
-    return r2, g2, b2, 0.0
+        return float(r1), float(g1), float(b1), 1.0
+    return float(r2), float(g2), float(b2), 0.0
 
 
 @inline
@@ -1074,9 +1074,10 @@ def brick_color(tint, fac, r1, g1, b1, r2, g2, b2, rm, gm, bm):
     sockets Color1 ``(r1, g1, b1)``, Color2 ``(r2, g2, b2)`` and Mortar ``(rm, gm, bm)``.
 
     Returns ``(r, g, b)``."""
+    r, g, b = float(r1), float(g1), float(b1)
     if fac != 1.0:
-        r1, g1, b1 = (1.0 - tint) * r1 + tint * r2, (1.0 - tint) * g1 + tint * g2, (1.0 - tint) * b1 + tint * b2
-    return r1 * (1.0 - fac) + rm * fac, g1 * (1.0 - fac) + gm * fac, b1 * (1.0 - fac) + bm * fac
+        r, g, b = (1.0 - tint) * r + tint * r2, (1.0 - tint) * g + tint * g2, (1.0 - tint) * b + tint * b2
+    return r * (1.0 - fac) + rm * fac, g * (1.0 - fac) + gm * fac, b * (1.0 - fac) + bm * fac
 
 
 @inline

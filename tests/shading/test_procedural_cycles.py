@@ -116,7 +116,6 @@ def render_cycles(bpy, case, path):
     ob = bpy.data.objects.new("plane", me)
     sc.collection.objects.link(ob)
     mat = bpy.data.materials.new("texture")
-    mat.use_nodes = True
     mat.node_tree.nodes.clear()
     _node_graph(bpy, mat.node_tree, case)
     ob.data.materials.append(mat)

@@ -27,6 +27,17 @@ def test_lookup3_hashes_match_hashword_with_initval_13():
     assert P.hash_uint3(-5, 3, -7) == O.hashword([-5, 3, -7], 13)
 
 
+def test_known_hash_values():
+    # lookup3 words, and White Noise at integer points as Cycles 5.0 renders it (these points lie
+    # on the grid of test_procedural_cycles' white-noise cases, which match Cycles bit for bit)
+    assert (P.hash_uint(0), P.hash_uint2(1, 2), P.hash_uint3(1, 2, 3), P.hash_uint4(1, 2, 3, 4)) == \
+        (2501500005, 272092061, 3100736010, 92593857)
+    assert P.white_noise_texture(1.0, 2.0, 2.0, 0.0, 3) == \
+        (0.7316466569900513, 0.7316466569900513, 0.9990622997283936, 0.8975786566734314)
+    assert P.white_noise_texture(-4.0, 7.0, 0.0, 0.0, 2) == \
+        (0.14437919855117798, 0.14437919855117798, 0.12836939096450806, 0.17659448087215424)
+
+
 def test_hashword_of_no_words_is_its_seed():
     # lookup3: with no words left there is no final mixing, c = 0xdeadbeef + initval
     assert O.hashword([], 13) == 0xDEADBEEF + 13

@@ -137,11 +137,11 @@ def render_cycles(bpy, case, path):
 def evaluate(case):
     """``case``'s texture evaluated here at the pixel centres, (RES, RES, 3)."""
     c = -1.0 + (np.arange(RES) + 0.5) * 2.0 / RES
-    off = case.get("offset", OFFSET)
+    off = np.float32(case.get("offset", OFFSET))  # Blender stores the offset, and adds it, in single precision
     out = np.zeros((RES, RES, 3))
     for j in range(RES):
         for i in range(RES):
-            p = (c[i] + off[0], c[j] + off[1], off[2])
+            p = tuple(float(v) for v in (np.float32(c[i]) + off[0], np.float32(c[j]) + off[1], off[2]))
             if case.get("snap"):
                 p = tuple(math.floor(v * 8.0) for v in p)
             if case.get("swap_yz"):
@@ -251,6 +251,11 @@ CASES = {
     "noise-3d-hetero": (dict(_noise(3, "HETERO_TERRAIN", detail=2.5, offset=0.3), absolute=True), SMOOTH),
     "noise-2d-fbm-large-coordinates": (dict(_noise(2, "FBM", scale=1.0, detail=0.0), offset=(1.5e6, 2.5e6, 0.3)),
                                        EDGES),
+    # beyond 1e5 Cycles wraps the noise's coordinates; where the single-precision step is 1/128 the
+    # pixel centres (multiples of 1/64 from the offset) are exact, not rounded by the rays' jitter
+    "noise-3d-fbm-wrapped-coordinates": (dict(_noise(3, "FBM", scale=1.0, detail=1.0),
+                                             offset=(120000.3, -110000.6, 105000.2)), SMOOTH),
+    "voronoi-3d-f1-far-cells": (dict(_voronoi(3, "F1", output="Color"), offset=(3000.1, -2000.2, 500.3)), EDGES),
     "voronoi-3d-f1-distance": (_voronoi(3, "F1"), EDGES),
     "voronoi-3d-f1-colour": (_voronoi(3, "F1", output="Color"), EDGES),
     "voronoi-3d-f1-position": (_voronoi(3, "F1", output="Position"), EDGES),

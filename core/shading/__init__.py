@@ -1,0 +1,1 @@
+"""Shader programs: node graphs compiled to programs the kernels evaluate at each shading point."""

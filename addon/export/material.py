@@ -45,7 +45,8 @@ from .nodes import (
     shader_inputs, surface_node)
 
 SUPPORTED_SURFACES = ("BSDF_PRINCIPLED", "BSDF_DIFFUSE", "BSDF_GLOSSY", "BSDF_METALLIC", "BSDF_GLASS",
-                      "BSDF_REFRACTION", "BSDF_TRANSPARENT", "EMISSION", "MIX_SHADER", "ADD_SHADER")
+                      "BSDF_REFRACTION", "BSDF_TRANSPARENT", "EMISSION", "MIX_SHADER", "ADD_SHADER",
+                      "BSDF_HAIR_PRINCIPLED", "BSDF_HAIR")
 COLOUR_INPUTS = ("Base Color", "Color")
 WHITE = (1.0, 1.0, 1.0)
 BLACK = (0.0, 0.0, 0.0)
@@ -579,6 +580,10 @@ def _shader(ctx, owner, node, depth=0):
         return _glass(ctx, owner, node), []
     if kind == "BSDF_REFRACTION":
         return _glass(ctx, owner, node, reflect=False), []
+    if kind in ("BSDF_HAIR_PRINCIPLED", "BSDF_HAIR"):  # a substitute on the plastic / GGX models (hair.py)
+        from .hair import hair_bsdf, principled_hair
+
+        return (principled_hair if kind == "BSDF_HAIR_PRINCIPLED" else hair_bsdf)(ctx, owner, node)
     if kind == "BSDF_TRANSPARENT":
         colour = input_value(ctx, owner, node, ("Color",), "colour")
         return _transparent(ctx, f"{owner}: {node.name}", colour), []

@@ -1,0 +1,118 @@
+"""Principled Hair BSDF and Hair BSDF → the core's existing models (a documented substitute).
+
+The core has no fibre scattering model (Chiang et al. 2016, "A Practical and Controllable
+Hair and Fur Model for Production Path Tracing"); a new BSDF model would lengthen every
+scene's cold compile (core/bsdfs/dispatch.py compiles every model). The hair nodes are
+therefore mapped onto the plastic model (Cycles' Principled layering):
+
+* Principled Hair (Chiang or Huang): the absorption coefficient σ_a of the fibre is found
+  as Cycles finds it — Absorption Coefficient as given; Melanin → eumelanin and pheomelanin
+  concentrations (−ln(1 − melanin), split by Melanin Redness) times Cycles' absorption
+  per concentration, plus the Tint's σ_a; Direct Coloring → σ_a of the colour — and turned
+  into the colour of the hair by inverting Chiang's relation between σ_a and the
+  multiple-scattering albedo c at radial roughness β_n (Chiang et al. 2016, §4.2):
+  σ_a = (ln c / (5.969 − 0.215 β_n + 2.532 β_n² − 10.73 β_n³ + 5.574 β_n⁴ + 0.245 β_n⁵))².
+  The hair is a plastic of that base colour under a GGX dielectric coat of the node's IOR,
+  GGX α = Roughness (the longitudinal width of Chiang's R lobe at β_m is close to a GGX
+  lobe's of α = β_m). Not carried over: the TT (forward transmission) and TRT lobes' shapes,
+  the cuticle tilt (Offset), Coat, Random Color / Roughness, Huang's aspect ratio and lobe
+  weights; these are listed in the export warning.
+* Hair BSDF: Reflection → a GGX reflector of its colour (as Glossy, α = Roughness U);
+  Transmission → a transparent surface of its colour (light goes on through the fibre).
+"""
+import math
+
+import numpy as np
+
+from .nodes import input_value
+
+EUMELANIN_SIGMA = (0.506, 0.841, 1.653)  # Cycles' σ_a per unit concentration (R, G, B)
+PHEOMELANIN_SIGMA = (0.343, 0.733, 1.924)
+MIN_ALPHA = 0.01
+
+
+def radial_factor(beta_n):
+    """Chiang et al.'s polynomial in the radial (azimuthal) roughness β_n."""
+    x = float(beta_n)
+    return (((((0.245 * x) + 5.574) * x - 10.73) * x + 2.532) * x - 0.215) * x + 5.969
+
+
+def sigma_from_colour(rgb, beta_n):
+    """σ_a (per unit fibre diameter) whose multiple-scattering colour is ``rgb`` (Chiang's relation)."""
+    c = np.clip(np.asarray(rgb, np.float64)[:3], 1e-6, 1.0)
+    return (np.log(c) / radial_factor(beta_n)) ** 2
+
+
+def colour_from_sigma(sigma, beta_n):
+    """The hair colour c of absorption ``sigma`` (the inverse of :func:`sigma_from_colour`)."""
+    s = np.maximum(np.asarray(sigma, np.float64)[:3], 0.0)
+    return np.exp(-np.sqrt(s) * radial_factor(beta_n))
+
+
+def sigma_from_melanin(melanin, redness):
+    """Cycles' σ_a of Melanin (0..1, perceptually linear) and Melanin Redness."""
+    m = -math.log(max(1.0 - float(melanin), 1e-4))
+    eu, pheo = m * (1.0 - float(redness)), m * float(redness)
+    return eu * np.array(EUMELANIN_SIGMA) + pheo * np.array(PHEOMELANIN_SIGMA)
+
+
+def principled_hair_colour(parametrization, colour, melanin, redness, tint, absorption, radial_roughness):
+    """The substitute base colour of a Principled Hair BSDF (Cycles' σ_a, then Chiang's c)."""
+    beta_n = min(max(float(radial_roughness), 0.0), 1.0)
+    if parametrization == "ABSORPTION":
+        sigma = np.asarray(absorption, np.float64)[:3]
+    elif parametrization == "MELANIN":
+        sigma = sigma_from_melanin(melanin, redness) + sigma_from_colour(tint, beta_n)
+    else:  # COLOR (direct colouring)
+        sigma = sigma_from_colour(colour, beta_n)
+    return tuple(float(v) for v in colour_from_sigma(sigma, beta_n))
+
+
+def _val(ctx, owner, node, name, kind="value", default=0.0):
+    if node.inputs.get(name) is None:
+        return default
+    v = input_value(ctx, owner, node, (name,), kind)
+    return default if v is None else v
+
+
+def principled_hair(ctx, owner, node):
+    from ...core import constants, plastic_params
+    from .material import _ior, _leaf, _refl
+
+    label = f"{owner}/{node.name}"
+    parametrization = getattr(node, "parametrization", "COLOR")
+    radial = _val(ctx, owner, node, "Radial Roughness", default=0.3)
+    rgb = principled_hair_colour(
+        parametrization, _val(ctx, owner, node, "Color", "colour", (0.0175, 0.0058, 0.0021)),
+        _val(ctx, owner, node, "Melanin", default=0.8), _val(ctx, owner, node, "Melanin Redness", default=1.0),
+        _val(ctx, owner, node, "Tint", "colour", (1.0, 1.0, 1.0)),
+        _val(ctx, owner, node, "Absorption Coefficient", "colour", (0.245531, 0.52, 1.365)), radial)
+    roughness = min(max(_val(ctx, owner, node, "Roughness", default=0.3), MIN_ALPHA), 1.0)
+    ior = _ior(ctx, owner, _val(ctx, owner, node, "IOR", default=1.55))
+    model = getattr(node, "model", "CHIANG").lower()
+    ctx.skip("Principled Hair BSDF (a plastic of Chiang's hair colour: no fibre lobes)",
+             f"{label} ({model}, colour {rgb[0]:.3g}, {rgb[1]:.3g}, {rgb[2]:.3g})")
+    ignored = [what for inp, what in (("Coat", "coat"), ("Random Color", "random colour"),
+                                      ("Random Roughness", "random roughness"))
+               if _val(ctx, owner, node, inp) > 0.0]
+    if ignored:
+        ctx.note(f"{label}: {', '.join(ignored)} ignored")
+    leaf = _leaf(name=f"{owner}: hair", model=constants.MAT_PLASTIC,
+                 params=plastic_params(roughness, roughness, layering="cycles", multiscatter=False),
+                 reflectance=_refl(ctx, f"{owner} hair", rgb), specular=-1, ior=ior)
+    return leaf, []
+
+
+def hair_bsdf(ctx, owner, node):
+    from .material import _perfect_conductor, _refl, _transparent, conductor_leaf
+
+    colour = _val(ctx, owner, node, "Color", "colour", (0.8, 0.8, 0.8))
+    component = getattr(node, "component", "Reflection")
+    label = f"{owner}/{node.name}"
+    if component == "Transmission":
+        ctx.skip("Hair BSDF (Transmission: a transparent surface of its colour)", label)
+        return _transparent(ctx, f"{owner}: {node.name}", colour), []
+    alpha = min(max(_val(ctx, owner, node, "RoughnessU", default=0.1), MIN_ALPHA), 1.0)
+    ctx.skip("Hair BSDF (Reflection: a GGX reflector of its colour)", label)
+    return conductor_leaf(ctx, f"{owner}: {node.name}", alpha, alpha, _perfect_conductor(ctx), -1,
+                          reflectance=_refl(ctx, owner, colour)), []

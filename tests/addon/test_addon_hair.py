@@ -100,6 +100,25 @@ def test_particle_hair_renders_without_its_emitter_and_with_its_material(ext, bp
     assert "Principled Hair BSDF" in res.warning and "'Hair/Principled Hair BSDF" in res.warning
 
 
+@pytest.mark.parametrize("component", ["Reflection", "Transmission"])
+def test_hair_bsdf_components(ext, bpy, component):
+    b = ext.build
+    b.camera()
+    mat = b.shader("Fibre", "ShaderNodeBsdfHair", Color=(0.6, 0.4, 0.2, 1.0), RoughnessU=0.2)
+    node = next(n for n in mat.node_tree.nodes if n.type == "BSDF_HAIR")
+    node.component = component
+    hair_patch(b, bpy, count=3, hair_material=mat)
+    res = b.export(ext)
+    core = ext.core
+    m = res.scene.materials[int(_mesh(res.scene, "Patch/Fur").material[0])]
+    if component == "Reflection":
+        assert m.model == core.constants.MAT_GGX_CONDUCTOR
+        assert "Hair BSDF (Reflection" in res.warning
+    else:
+        assert (m.model, m.ior) == (core.constants.MAT_DIELECTRIC, 1.0)
+        assert "Hair BSDF (Transmission" in res.warning
+
+
 def _curves_object(bpy, b, radius=True, poly=False):
     cv = bpy.data.hair_curves.new("Strands")
     cv.add_curves([3, 4])
@@ -153,32 +172,41 @@ def test_curves_object_defaults_poly_and_view_layer_filter(ext, bpy):
     assert not any(m.name == "Strands" for m in b.export(ext).scene.meshes)
 
 
-def test_principled_hair_colour_follows_cycles_absorption(ext):
+def test_principled_hair_absorption_and_fibre_albedo(ext):
     from importlib import import_module
 
     H = import_module(ext.module.__name__ + ".addon.export.hair")
     for c in ((0.5, 0.3, 0.1), (0.9, 0.9, 0.9), (0.02, 0.01, 0.005)):
         for beta_n in (0.0, 0.3, 1.0):
-            back = H.principled_hair_colour("COLOR", c, 0, 0, (1, 1, 1), (0, 0, 0), beta_n)
-            np.testing.assert_allclose(back, c, rtol=1e-9)  # direct colouring is Chiang's c
+            sigma = H.principled_hair_sigma("COLOR", c, 0, 0, (1, 1, 1), (0, 0, 0), beta_n)
+            np.testing.assert_allclose(H.colour_from_sigma(sigma, beta_n), c, rtol=1e-9)  # Chiang's relation
     # melanin 1 − 1/e is one unit of concentration: σ_a = Cycles' eumelanin / pheomelanin coefficients
     np.testing.assert_allclose(H.sigma_from_melanin(1.0 - math.exp(-1.0), 0.0), H.EUMELANIN_SIGMA)
     np.testing.assert_allclose(H.sigma_from_melanin(1.0 - math.exp(-1.0), 1.0), H.PHEOMELANIN_SIGMA)
-    assert H.principled_hair_colour("MELANIN", None, 0.0, 0.5, (1, 1, 1), None, 0.3) == pytest.approx((1, 1, 1))
-    dark = H.principled_hair_colour("MELANIN", None, 0.9, 0.0, (1, 1, 1), None, 0.3)
-    light = H.principled_hair_colour("MELANIN", None, 0.3, 0.0, (1, 1, 1), None, 0.3)
-    assert all(d < lt < 1.0 for d, lt in zip(dark, light))
-    sigma = (0.2, 0.5, 1.0)
-    got = H.principled_hair_colour("ABSORPTION", None, 0, 0, None, sigma, 0.3)
-    np.testing.assert_allclose(got, np.exp(-np.sqrt(sigma) * H.radial_factor(0.3)))
+    np.testing.assert_allclose(H.principled_hair_sigma("MELANIN", None, 0.0, 0.5, (1, 1, 1), None, 0.3), 0.0)
+    np.testing.assert_allclose(H.principled_hair_sigma("ABSORPTION", None, 0, 0, None, (0.2, 0.5, 1.0), 0.3),
+                               (0.2, 0.5, 1.0))
+    # a fibre that absorbs nothing scatters everything; an opaque one only its Fresnel reflection
+    f_mean, total = H.fibre_energies([0.0, 1e9], 1.55)
+    assert total[0] == pytest.approx(1.0, abs=1e-12) and total[1] == pytest.approx(f_mean, abs=1e-12)
+    h = np.sin(np.linspace(-math.pi / 2, math.pi / 2, 200_001))  # F̄ over the offsets, as ∫ F(γ) cos γ dγ / 2
+    gamma = np.arcsin(h)
+    f_gamma = H.fresnel_dielectric(np.cos(gamma), 1.55) * np.cos(gamma)
+    integral = np.sum(0.5 * (f_gamma[1:] + f_gamma[:-1]) * np.diff(gamma)) / 2.0
+    assert f_mean == pytest.approx(integral, rel=2e-4)
+    assert H.fresnel_dielectric(1.0, 1.55) == pytest.approx(((1.55 - 1) / (1.55 + 1)) ** 2)
+    dark = H.principled_hair_albedo(H.sigma_from_melanin(0.9, 0.0), 1.55)
+    light = H.principled_hair_albedo(H.sigma_from_melanin(0.3, 0.0), 1.55)
+    assert all(0.0 <= d < lt < 1.0 for d, lt in zip(dark, light))
+    assert light[0] > light[1] > light[2]  # melanin absorbs blue most
 
 
 # ----------------------------------------------------------------------------- beside Cycles
 
 
-def groom_scene(b, bpy, hair_shader, shape="THICK", samples=32):
+def groom_scene(b, bpy, hair_shader, shape="THICK", samples=64):
     """A 1 m patch of 400 straight 0.25 m strands (radius 4 mm) on a grey diffuse plane under a sun
-    30° off the zenith, seen by an orthographic camera 50° off the normal; 24 × 24 pixels."""
+    30° off the zenith, seen by an orthographic camera 50° off the normal; 32 × 32 pixels, 6 sides."""
     ground = b.shader("Ground", "ShaderNodeBsdfDiffuse", Color=(0.5, 0.5, 0.5, 1.0))
     floor, ps = hair_patch(b, bpy, count=400, floor_material=ground, hair_material=hair_shader, length=0.25,
                            size=1.0)
@@ -190,8 +218,7 @@ def groom_scene(b, bpy, hair_shader, shape="THICK", samples=32):
     cam.data.type = "ORTHO"
     cam.data.ortho_scale = 0.6
     b.scene.cycles_curves.shape = shape
-    b.scene.spectral_gi.hair_sides = 8
-    b.resolution(24, 24)
+    b.resolution(32, 32)
     s = b.scene.spectral_gi
     s.samples, s.max_bounces, s.seed = samples, 8, 1
     return floor
@@ -206,19 +233,22 @@ def _compare(bpy, b, tmp_path):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("shape", ["THICK", "RIBBONS"])
-def test_diffuse_groom_matches_cycles(ext, bpy, tmp_path, shape):
-    """Where the physics agrees (diffuse strands): the tessellated curves against Cycles' curves."""
+@pytest.mark.parametrize("shape,tolerance", [("THICK", 0.03), ("RIBBONS", 0.06)])
+def test_diffuse_groom_matches_cycles(ext, bpy, tmp_path, shape, tolerance):
+    """Where the physics agrees (diffuse strands): the tessellated curves against Cycles' curves.
+    Sub-pixel strands make the comparison itself scatter by about ±2 % with the resolution; ribbons
+    face the camera also for shadow and indirect rays (Cycles turns them to each ray), a few % darker."""
     b = ext.build
     groom_scene(b, bpy, b.shader("Strand", "ShaderNodeBsdfDiffuse", Color=(0.6, 0.45, 0.3, 1.0)), shape)
     ratio = _compare(bpy, b, tmp_path)
     print(f"diffuse groom ({shape}): luminance ratio {ratio:.4f}")
-    assert ratio == pytest.approx(1.0, abs=0.03)
+    assert ratio == pytest.approx(1.0, abs=tolerance)
 
 
 @pytest.mark.slow
 def test_principled_hair_groom_beside_cycles(ext, bpy, tmp_path):
-    """The Principled Hair substitute (a plastic of Chiang's colour) against Cycles' Chiang model."""
+    """The Principled Hair substitute (an opaque plastic of the fibre's albedo) against Cycles' Chiang
+    model: brighter, as the light a strand sends on forward (TT) comes back towards the camera here."""
     b = ext.build
     mat = b.shader("Strand", "ShaderNodeBsdfHairPrincipled")
     node = next(n for n in mat.node_tree.nodes if n.type == "BSDF_HAIR_PRINCIPLED")
@@ -228,4 +258,4 @@ def test_principled_hair_groom_beside_cycles(ext, bpy, tmp_path):
     groom_scene(b, bpy, mat)
     ratio = _compare(bpy, b, tmp_path)
     print(f"Principled Hair groom: luminance ratio {ratio:.4f}")
-    assert ratio == pytest.approx(1.0, abs=0.15)
+    assert 0.9 < ratio < 1.35

@@ -108,9 +108,8 @@ def _val(ctx, owner, node, name, kind="value", default=0.0):
 
 
 def principled_hair(ctx, owner, node):
-    from ...core import constants, plastic_params
-    from .material import _ior, _leaf, _refl
-
+    """(base colour, GGX α, IOR) of the plastic that stands in for a Principled Hair BSDF; the
+    substitute and the ignored inputs are recorded in the export warning."""
     label = f"{owner}/{node.name}"
     parametrization = getattr(node, "parametrization", "COLOR")
     radial = _val(ctx, owner, node, "Radial Roughness", default=0.3)
@@ -120,7 +119,7 @@ def principled_hair(ctx, owner, node):
         _val(ctx, owner, node, "Tint", "colour", (1.0, 1.0, 1.0)),
         _val(ctx, owner, node, "Absorption Coefficient", "colour", (0.245531, 0.52, 1.365)), radial)
     roughness = min(max(_val(ctx, owner, node, "Roughness", default=0.3), MIN_ALPHA), 1.0)
-    ior = _ior(ctx, owner, _val(ctx, owner, node, "IOR", default=1.55))
+    ior = float(_val(ctx, owner, node, "IOR", default=1.55))
     rgb = principled_hair_albedo(sigma, max(ior, 1.0 + 1e-6))
     model = getattr(node, "model", "CHIANG").lower()
     ctx.skip("Principled Hair BSDF (an opaque plastic of the fibre's albedo: no fibre lobes)",
@@ -130,22 +129,18 @@ def principled_hair(ctx, owner, node):
                if _val(ctx, owner, node, inp) > 0.0]
     if ignored:
         ctx.note(f"{label}: {', '.join(ignored)} ignored")
-    leaf = _leaf(name=f"{owner}: hair", model=constants.MAT_PLASTIC,
-                 params=plastic_params(roughness, roughness, layering="cycles", multiscatter=False),
-                 reflectance=_refl(ctx, f"{owner} hair", rgb), specular=-1, ior=ior)
-    return leaf, []
+    return rgb, roughness, ior
 
 
 def hair_bsdf(ctx, owner, node):
-    from .material import _perfect_conductor, _refl, _transparent, conductor_leaf
-
+    """(component, colour, GGX α) of a Hair BSDF's substitute: Reflection → a GGX reflector of the
+    colour, Transmission → a transparent surface of the colour (recorded in the export warning)."""
     colour = _val(ctx, owner, node, "Color", "colour", (0.8, 0.8, 0.8))
     component = getattr(node, "component", "Reflection")
     label = f"{owner}/{node.name}"
     if component == "Transmission":
         ctx.skip("Hair BSDF (Transmission: a transparent surface of its colour)", label)
-        return _transparent(ctx, f"{owner}: {node.name}", colour), []
+        return "Transmission", colour, None
     alpha = min(max(_val(ctx, owner, node, "RoughnessU", default=0.1), MIN_ALPHA), 1.0)
     ctx.skip("Hair BSDF (Reflection: a GGX reflector of its colour)", label)
-    return conductor_leaf(ctx, f"{owner}: {node.name}", alpha, alpha, _perfect_conductor(ctx), -1,
-                          reflectance=_refl(ctx, owner, colour)), []
+    return "Reflection", colour, alpha

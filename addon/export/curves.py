@@ -26,6 +26,7 @@ from .mesh import slot_materials
 CURVES_DEFAULT_RADIUS = 0.005  # Cycles' radius of Curves points without a radius attribute
 DEFAULT_SIDES = 6
 CURVE_TYPE_POLY = 1  # Blender's CurveType: CATMULL_ROM 0, POLY 1, BEZIER 2, NURBS 3
+MAX_TRIANGLES = 100_000_000  # per hair system or Curves object: about 12 GB of BVH (122 B per triangle)
 
 
 def hair_shape(scene):
@@ -117,10 +118,15 @@ def _curves_mesh(ctx, name, local, radii, counts, matrix, material, camera, shap
             view_dir = -to_world[:3, 2]
         else:
             eye = to_world[:3, 3]
+    n_tri = G.triangle_count(counts, shape, sides)
+    if n_tri > MAX_TRIANGLES:
+        from .context import ExportError
+
+        raise ExportError(f"{name}: {len(counts)} strands would make {n_tri:,} triangles (at most "
+                          f"{MAX_TRIANGLES:,}); use fewer children, Render Steps or Hair Sides")
     pos, tri, nrm, _ = G.tessellate(world, r, counts, shape=shape, sides=sides, eye=eye, view_dir=view_dir)
     if tri.shape[0] == 0:
         return None
-    ctx.curve_stats = getattr(ctx, "curve_stats", []) + [(name, int(len(counts)), int(tri.shape[0]))]
     return Mesh(name=name, positions=pos, indices=tri, material=np.full(tri.shape[0], material, np.int32),
                 normals=nrm)
 
@@ -155,7 +161,8 @@ def export_particle_hair(ctx, obj, matrix, name, camera, scene, render=True):
         mesh = _curves_mesh(ctx, label, local, radii, counts, matrix, material, camera, shape, sides)
         if mesh is not None:
             meshes.append(mesh)
-            ctx.note(f"{label}: hair rendered as {_shape_text(shape, sides)}")
+            ctx.note(f"{label}: hair rendered as {_shape_text(shape, sides)}; {len(counts)} strands, "
+                     f"{mesh.indices.shape[0]} triangles")
     return meshes
 
 
@@ -193,7 +200,8 @@ def export_curves_object(ctx, obj, matrix, name, camera, scene):
     material = _material(ctx, obj, 0, name)
     mesh = _curves_mesh(ctx, name, pos, radii, counts, matrix, material, camera, shape, sides)
     if mesh is not None:
-        ctx.note(f"{name}: curves rendered as {_shape_text(shape, sides)}")
+        ctx.note(f"{name}: curves rendered as {_shape_text(shape, sides)}; {len(counts)} curves, "
+                 f"{mesh.indices.shape[0]} triangles")
     return mesh
 
 

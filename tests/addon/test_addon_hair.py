@@ -61,6 +61,7 @@ def test_particle_hair_strands_and_hair_shape_radii(ext, bpy):
                                rtol=1e-4)
     np.testing.assert_allclose(centre[:, -1, 2] - centre[:, 0, 2], 0.3, rtol=1e-4)  # hair length, up Z
     assert "Patch/Fur: hair rendered as tubes of 6 sides" in res.warning
+    assert "20 strands, 960 triangles" in res.warning
     assert "particle hair (not rendered)" not in res.warning
 
 
@@ -117,6 +118,18 @@ def test_hair_bsdf_components(ext, bpy, component):
     else:
         assert (m.model, m.ior) == (core.constants.MAT_DIELECTRIC, 1.0)
         assert "Hair BSDF (Transmission" in res.warning
+
+
+def test_a_groom_too_large_is_a_clear_error(ext, bpy, monkeypatch):
+    from importlib import import_module
+
+    curves = import_module(ext.module.__name__ + ".addon.export.curves")
+    b = ext.build
+    b.camera()
+    hair_patch(b, bpy, count=20)
+    monkeypatch.setattr(curves, "MAX_TRIANGLES", 100)
+    with pytest.raises(ext.export.ExportError, match=r"Patch/Fur: 20 strands would make [0-9,]+ triangles"):
+        b.export(ext)
 
 
 def _curves_object(bpy, b, radius=True, poly=False):

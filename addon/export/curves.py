@@ -14,9 +14,9 @@ The strands are read as Cycles reads them (intern/cycles/blender/curves.cpp):
   one, Cycles' default); material: the first slot.
 
 Round curves ("3D Curves", or any Curves object of poly curves, which Cycles always
-renders round) become tubes of Hair Sides faces, ribbons camera-facing strips. Keys are
-joined by straight segments: Cycles interpolates a Catmull-Rom spline through them, which
-differs only where strands bend between keys.
+renders round) become tubes of Hair Sides faces, ribbons camera-facing strips. Between
+keys the strands follow Cycles' Catmull-Rom spline in straight pieces, one per 15° of
+turning (poly curves: straight between their points, as Cycles).
 """
 import numpy as np
 
@@ -103,7 +103,7 @@ def particle_radii(part, times, counts):
     return r
 
 
-def _curves_mesh(ctx, name, local, radii, counts, matrix, material, camera, shape, sides):
+def _curves_mesh(ctx, name, local, radii, counts, matrix, material, camera, shape, sides, spline=True):
     from ...core import Mesh
     from ...core import constants as C
     from ...core.geometry import curves as G
@@ -111,6 +111,8 @@ def _curves_mesh(ctx, name, local, radii, counts, matrix, material, camera, shap
     m = np.asarray(matrix, np.float64)
     world = (local @ m[:3, :3].T + m[:3, 3]) * ctx.scale_length
     r = np.asarray(radii, np.float64) * _linear_scale(m) * ctx.scale_length
+    if spline:  # Cycles' Catmull-Rom spline through the keys, in straight pieces where it bends
+        world, r, counts = G.catmull_rom_refine(world, r, counts)
     eye = view_dir = None
     if shape == G.RIBBON:
         to_world = np.asarray(camera.to_world, np.float64)
@@ -198,7 +200,7 @@ def export_curves_object(ctx, obj, matrix, name, camera, scene):
     shape = G.ROUND if poly else hair_shape(scene)
     sides = hair_sides(scene)
     material = _material(ctx, obj, 0, name)
-    mesh = _curves_mesh(ctx, name, pos, radii, counts, matrix, material, camera, shape, sides)
+    mesh = _curves_mesh(ctx, name, pos, radii, counts, matrix, material, camera, shape, sides, spline=not poly)
     if mesh is not None:
         ctx.note(f"{name}: curves rendered as {_shape_text(shape, sides)}; {len(counts)} curves, "
                  f"{mesh.indices.shape[0]} triangles")
@@ -209,7 +211,7 @@ def _shape_text(shape, sides):
     from ...core.geometry import curves as G
 
     if shape == G.RIBBON:
-        return "camera-facing ribbons of straight segments"
+        return "camera-facing ribbons"
     lo, hi = G.silhouette_range(sides)
-    return (f"tubes of {sides} sides and straight segments (width seen from one side {100 * (lo - 1):+.0f} % "
+    return (f"tubes of {sides} sides (width seen from one side {100 * (lo - 1):+.0f} % "
             f"to {100 * (hi - 1):+.0f} % of the round curve's, exact on average)")

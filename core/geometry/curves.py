@@ -14,6 +14,10 @@ curves pays nothing.
   projected area of the true cylinder, 2·r·L, averaged over the view directions around
   its axis. Seen from one direction the width is within a factor cos(π / sides) of that
   mean (the polygonal silhouette). The normals are those of the cylinder (radial).
+* Keys are joined through Cycles' spline: a uniform Catmull-Rom spline through the keys
+  (the first and last key repeated at the ends), radius interpolated alike.
+  :func:`catmull_rom_refine` splits each segment into enough straight pieces that the
+  spline turns by about ``max_angle`` at most over each, so straight strands keep their keys.
 * Ribbon (Cycles' "ribbons"): a flat strip of width 2·r across each segment facing the
   eye (a perspective camera's position, or against an orthographic camera's direction).
   Its shading normals bend across the strip as those of a cylinder seen from the eye,
@@ -205,6 +209,63 @@ def tessellate(points, radii, counts, shape=ROUND, sides=DEFAULT_SIDES, columns=
             np.ascontiguousarray(np.concatenate(idx_parts), np.int32),
             np.ascontiguousarray(np.concatenate(nrm_parts), np.float32),
             np.ascontiguousarray(np.concatenate(cur_parts), np.int32))
+
+
+def _catmull_rom(p0, p1, p2, p3, t):
+    """The uniform Catmull-Rom spline through p1 (t = 0) and p2 (t = 1); t broadcasts as (n, 1)."""
+    t2 = t * t
+    t3 = t2 * t
+    return 0.5 * ((-t3 + 2.0 * t2 - t) * p0 + (3.0 * t3 - 5.0 * t2 + 2.0) * p1
+                  + (-3.0 * t3 + 4.0 * t2 + t) * p2 + (t3 - t2) * p3)
+
+
+def catmull_rom_refine(points, radii, counts, max_angle=math.radians(15.0), max_pieces=4):
+    """(points, radii, counts) of the curves with each segment split along the Catmull-Rom spline
+    through the keys into ceil(turn / ``max_angle``) pieces (at most ``max_pieces``), ``turn``
+    the angle the spline's tangent turns through over the segment. The keys stay."""
+    points = np.asarray(points, np.float64).reshape(-1, 3)
+    radii = np.asarray(radii, np.float64).reshape(-1)
+    counts = np.asarray(counts, np.int64).reshape(-1)
+    first = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int64)
+    last = first + counts - 1
+    curve_of_seg = np.repeat(np.arange(counts.size), np.maximum(counts - 1, 0))
+    if curve_of_seg.size == 0:
+        return points, radii, counts
+    segs = np.maximum(counts - 1, 0)
+    seg_first = np.concatenate([[0], np.cumsum(segs)[:-1]]).astype(np.int64)
+    seg_start = first[curve_of_seg] + np.arange(curve_of_seg.size) - seg_first[curve_of_seg]
+    k0, k1 = seg_start, seg_start + 1
+    ka = np.maximum(k0 - 1, first[curve_of_seg])
+    kb = np.minimum(k1 + 1, last[curve_of_seg])
+    q = np.concatenate([points, radii[:, None]], axis=1)  # position and radius, interpolated alike
+    # the spline's turning over the segment: the angles between its tangents at 9 points along it
+    tt = np.linspace(0.0, 1.0, 9)
+    w = 0.5 * np.stack([-3.0 * tt**2 + 4.0 * tt - 1.0, 9.0 * tt**2 - 10.0 * tt, -9.0 * tt**2 + 8.0 * tt + 1.0,
+                        3.0 * tt**2 - 2.0 * tt], 1)  # d/dt of the Catmull-Rom weights
+    tangent = np.einsum("sk,nkj->nsj", w, np.stack([points[ka], points[k0], points[k1], points[kb]], 1))
+    length = np.linalg.norm(tangent, axis=2, keepdims=True)
+    tangent = np.where(length > 0.0, tangent / np.where(length > 0.0, length, 1.0), 0.0)
+    cos = np.einsum("nsj,nsj->ns", tangent[:, 1:], tangent[:, :-1])
+    turn = np.arccos(np.clip(cos, -1.0, 1.0)).sum(axis=1)
+    pieces = np.clip(np.ceil(turn / max_angle - 1e-9), 1, max_pieces).astype(np.int64)
+    seg_of_piece = np.repeat(np.arange(k0.size), pieces)
+    offset = np.concatenate([[0], np.cumsum(pieces)[:-1]])
+    t = ((np.arange(seg_of_piece.size) - offset[seg_of_piece]) / pieces[seg_of_piece])[:, None]
+    s = seg_of_piece
+    inner = _catmull_rom(q[ka[s]], q[k0[s]], q[k1[s]], q[kb[s]], t)
+    # each curve: its segments' pieces, then its last key
+    per_curve = np.bincount(curve_of_seg, weights=pieces, minlength=counts.size).astype(np.int64)
+    new_counts = np.where(counts >= 2, per_curve + 1, counts)
+    out = np.empty((int(new_counts.sum()), 4))
+    new_first = np.concatenate([[0], np.cumsum(new_counts)[:-1]]).astype(np.int64)
+    piece_curve = curve_of_seg[s]
+    piece_first = np.concatenate([[0], np.cumsum(per_curve)[:-1]]).astype(np.int64)
+    out[new_first[piece_curve] + np.arange(s.size) - piece_first[piece_curve]] = inner
+    ends = np.nonzero(counts >= 2)[0]
+    out[new_first[ends] + new_counts[ends] - 1] = q[last[ends]]
+    single = np.nonzero(counts == 1)[0]
+    out[new_first[single]] = q[first[single]]
+    return out[:, :3], np.maximum(out[:, 3], 0.0), new_counts
 
 
 def shape_radius(shape, root, tip, time):

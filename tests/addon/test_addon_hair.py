@@ -185,6 +185,29 @@ def test_curves_object_defaults_poly_and_view_layer_filter(ext, bpy):
     assert not any(m.name == "Strands" for m in b.export(ext).scene.meshes)
 
 
+@pytest.mark.parametrize("poly", [False, True])
+def test_bent_curves_follow_cycles_spline_and_poly_curves_their_points(ext, bpy, poly):
+    b = ext.build
+    b.camera()
+    cv = bpy.data.hair_curves.new("Arc")
+    cv.add_curves([5])
+    a = np.linspace(0.0, math.pi, 5)
+    cv.position_data.foreach_set("vector", np.stack([np.cos(a), np.zeros(5), np.sin(a)], 1).astype(np.float32).ravel())
+    if poly:
+        cv.set_types(type="POLY")
+    b.link(bpy.data.objects.new("Arc", cv))
+    b.scene.cycles_curves.shape = "THICK"
+    mesh = _mesh(b.export(ext).scene, "Arc")
+    n_segments = mesh.indices.shape[0] // (6 * 2)
+    if poly:
+        assert n_segments == 4
+    else:  # 45° per segment: pieces of about 15° along the Catmull-Rom spline
+        assert n_segments >= 10
+        centres = mesh.positions.astype(np.float64).reshape(-1, 6, 3).mean(axis=1)
+        inner = (centres[:, 2] > math.sin(math.pi / 4) - 1e-6)  # the inner segments: near the circle
+        np.testing.assert_allclose(np.linalg.norm(centres[inner][:, [0, 2]], axis=1), 1.0, atol=0.02)
+
+
 def test_principled_hair_absorption_and_fibre_albedo(ext):
     from importlib import import_module
 

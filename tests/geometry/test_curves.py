@@ -136,3 +136,36 @@ def test_bad_curves_are_refused_clearly():
         G.tessellate(p, r, c, shape=G.RIBBON)
     pos, tri, _, _ = G.tessellate(p[:1], r[:1], [1])  # one key: nothing to draw
     assert tri.shape == (0, 3)
+
+
+def test_catmull_rom_refine_keeps_straight_strands_and_follows_the_spline():
+    p, r, c = _straight(n_keys=5, n_curves=2)
+    rp, rr, rc = G.catmull_rom_refine(p, r, c)
+    assert rc.tolist() == [5, 5]
+    np.testing.assert_allclose(rp, p)
+    np.testing.assert_allclose(rr, r)
+    # a half circle of 5 keys (and a one-key curve, kept): each segment turns by 45°
+    a = np.linspace(0.0, math.pi, 5)
+    arc = np.stack([np.cos(a), np.sin(a), np.zeros(5)], 1)
+    pts = np.concatenate([arc, [[5.0, 5.0, 5.0]]])
+    radii = np.concatenate([np.linspace(0.1, 0.0, 5), [0.3]])
+    rp, rr, rc = G.catmull_rom_refine(pts, radii, [5, 1], max_angle=math.radians(10.0), max_pieces=8)
+    assert rc[1] == 1 and np.allclose(rp[-1], (5.0, 5.0, 5.0)) and rr[-1] == pytest.approx(0.3)
+    curve = rp[: rc[0]]
+    for key in arc:  # the keys stay on the refined polyline
+        assert np.min(np.linalg.norm(curve - key, axis=1)) < 1e-12
+    # an inner segment: the spline's tangents at its ends differ by 45° → 5 pieces, points on the spline
+    k = 1
+    t = np.arange(6)[:, None] / 5.0
+    want = 0.5 * ((-t**3 + 2 * t**2 - t) * arc[k - 1] + (3 * t**3 - 5 * t**2 + 2) * arc[k]
+                  + (-3 * t**3 + 4 * t**2 + t) * arc[k + 1] + (t**3 - t**2) * arc[k + 2])
+    for w in want:
+        assert np.min(np.linalg.norm(curve - w, axis=1)) < 1e-12
+    # the refined polyline turns by a few max_angle at most at each point (by 45° at the keys unrefined)
+    d = np.diff(curve, axis=0)
+    d /= np.linalg.norm(d, axis=1)[:, None]
+    assert np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", d[1:], d[:-1]), -1, 1))).max() < 20.0  # 45° before
+    angle = np.arctan2(curve[:, 1], curve[:, 0])
+    inner = (angle >= math.pi / 4 - 1e-9) & (angle <= 3 * math.pi / 4 + 1e-9)  # the inner segments
+    assert np.abs(np.linalg.norm(curve[inner, :2], axis=1) - 1.0).max() < 0.01
+    assert np.all(rr[: rc[0]] >= 0.0)

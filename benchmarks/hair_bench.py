@@ -5,8 +5,10 @@ time, BVH build time and the memory the BVH keeps.
 
 Strands of ``segments`` straight-ish segments (a gentle random bend per key) on a 1 m patch,
 tessellated round at each number of sides and as ribbons, then built into the BVH
-(core.geometry.accel.build). The first build of a run also compiles or loads the BVH
-kernels, so one small build runs first and is not counted.
+(core.geometry.accel.build); the last row first follows the Catmull-Rom spline through the
+keys as the exporter does (``catmull_rom_refine``: more segments where strands bend). The
+first build of a run also compiles or loads the BVH kernels, so one small build runs first and
+is not counted.
 """
 import argparse
 import time
@@ -40,10 +42,13 @@ def main():
     warm = G.tessellate(*groom(10, 2), shape=G.ROUND)
     accel.build(*(warm[0][warm[1][:, k]].astype(np.float64) for k in range(3)))
     rows = []
-    cases = [(G.ROUND, s) for s in args.sides] + [(G.RIBBON, G.DEFAULT_COLUMNS)]
+    cases = [(G.ROUND, s) for s in args.sides] + [(G.RIBBON, G.DEFAULT_COLUMNS), ("spline", G.DEFAULT_SIDES)]
     for shape, n in cases:
         t0 = time.perf_counter()
-        if shape == G.ROUND:
+        if shape == "spline":
+            rp, rr, rc = G.catmull_rom_refine(p, r, c)
+            pos, tri, nrm, _ = G.tessellate(rp, rr, rc, shape=G.ROUND, sides=n)
+        elif shape == G.ROUND:
             pos, tri, nrm, _ = G.tessellate(p, r, c, shape=shape, sides=n)
         else:
             pos, tri, nrm, _ = G.tessellate(p, r, c, shape=shape, columns=n, eye=(0.0, -3.0, 1.0))
@@ -51,7 +56,7 @@ def main():
         bvh = accel.build(*(pos[tri[:, k]].astype(np.float64) for k in range(3)))
         t2 = time.perf_counter()
         mesh_mb = (pos.nbytes + tri.nbytes + nrm.nbytes) / 1e6
-        label = f"round, {n} sides" if shape == G.ROUND else f"ribbon, {n} columns"
+        label = {G.ROUND: f"round, {n} sides", G.RIBBON: f"ribbon, {n} columns"}.get(shape, f"spline, {n} sides")
         rows.append([label, int(tri.shape[0]), round(t1 - t0, 2), round(t2 - t1, 2), round(mesh_mb, 1),
                      round(bvh.nbytes / 1e6, 1)])
         print(f"{label:>18}: {tri.shape[0]:>9} triangles, tessellate {t1 - t0:6.2f} s, BVH build "

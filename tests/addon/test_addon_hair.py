@@ -85,6 +85,33 @@ def test_particle_hair_children_close_tip_shape_and_object_scale(ext, bpy):
     np.testing.assert_allclose(radii, cycles * math.pi / (4 * math.sin(math.pi / 4)), rtol=1e-4, atol=1e-7)
 
 
+@pytest.mark.slow
+def test_f12_renders_the_render_steps_and_rendered_children(ext, bpy, monkeypatch):
+    """A final render reads the strands from the render depsgraph: Render Steps and the rendered
+    child count (the viewport's export, above, reads Viewport Steps and the display amount)."""
+    from importlib import import_module
+
+    curves = import_module(ext.module.__name__ + ".addon.export.curves")
+    seen = []
+    strands = curves.particle_strands
+
+    def spy(obj, psys, render):
+        out = strands(obj, psys, render)
+        seen.append((render, len(out[1]), int(out[1][0])))
+        return out
+
+    monkeypatch.setattr(curves, "particle_strands", spy)
+    b = ext.build
+    b.camera()
+    floor, ps = hair_patch(b, bpy, count=10, children=3)
+    ps.rendered_child_count = 5
+    b.resolution(8, 8)
+    b.scene.render.engine = "SPECTRAL_GI"
+    b.scene.spectral_gi.samples = 1
+    assert bpy.ops.render.render() == {"FINISHED"}
+    assert seen == [(True, 10 * 5, (1 << 3) + 1)], seen
+
+
 def test_particle_hair_renders_without_its_emitter_and_with_its_material(ext, bpy):
     b = ext.build
     b.camera()

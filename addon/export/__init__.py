@@ -101,8 +101,7 @@ RAY_VISIBILITY = (("visible_diffuse", "diffuse"), ("visible_glossy", "glossy"),
 
 def object_features(ctx, obj, name, light=False):
     """Record the Cycles object settings the renderer does not follow: ray visibility flags
-    (a light's camera visibility is followed), shadow catcher (of geometry), light linking
-    and particle hair."""
+    (a light's camera visibility is followed), shadow catcher (of geometry) and light linking."""
     off = [label for prop, label in RAY_VISIBILITY if not getattr(obj, prop, True)]
     if not light and not getattr(obj, "visible_camera", True):
         off.insert(0, "camera")
@@ -114,9 +113,6 @@ def object_features(ctx, obj, name, light=False):
     if link is not None and (getattr(link, "receiver_collection", None) is not None
                              or getattr(link, "blocker_collection", None) is not None):
         ctx.skip("light and shadow linking (every light lights everything)", name)
-    for psys in getattr(obj, "particle_systems", ()):
-        if psys.settings.type == "HAIR":
-            ctx.skip("particle hair (not rendered)", f"{name}/{psys.name}")
 
 
 def export_scene(depsgraph, scene=None, should_cancel=None, mesh_cache=None, camera=None):
@@ -134,22 +130,32 @@ def export_scene(depsgraph, scene=None, should_cancel=None, mesh_cache=None, cam
     ctx = ExportContext(scene.unit_settings.scale_length, should_cancel, n_coeffs=fourier_order(scene),
                         uplift_cache=mesh_cache.spectra if mesh_cache is not None else None)
     from .camera import export_camera
+    from .curves import export_curves_object, export_particle_hair, renders_hair
 
     if camera is None:
         camera = export_camera(ctx, scene, depsgraph)
     meshes, lights = [], []
     cache = {}
     surfaced, unsurfaced = set(), []
+    hair = renders_hair(depsgraph)
+    render = getattr(depsgraph, "mode", "VIEWPORT") == "RENDER"
     for inst in depsgraph.object_instances:
         ctx.check_cancel()
         obj = inst.object
-        if not inst.is_instance and (obj.original.hide_render or not inst.show_self):
+        if not inst.is_instance and obj.original.hide_render:
             continue
         if inst.is_instance and inst.parent is not None and inst.parent.original.hide_render:
             continue  # the instances of a hidden object (also the mesh of a hidden curve, text or metaball)
         name = _instance_name(inst, obj)
         kind = obj.type
         matrix = matrix_to_array(inst.matrix_world)
+        if hair and kind == "MESH" and getattr(inst, "show_particles", True) and len(obj.particle_systems):
+            # particle hair renders also when its emitter does not (Show Emitter off)
+            for mesh in export_particle_hair(ctx, obj, matrix, name, camera, scene, render=render):
+                mesh.holdout = bool(getattr(obj, "is_holdout", False))
+                meshes.append(mesh)
+        if not inst.is_instance and not inst.show_self:
+            continue
         if kind in GEOMETRY_TYPES:
             if not isinstance(obj.data, bpy.types.Mesh):
                 # curves, text, metaballs, surfaces: Blender lists their evaluated mesh as an instance of
@@ -180,7 +186,12 @@ def export_scene(depsgraph, scene=None, should_cancel=None, mesh_cache=None, cam
             if light is not None:
                 lights.append(light)
         elif kind == "CURVES":
-            ctx.skip("hair curves objects (not rendered)", obj.name)
+            if hair:
+                object_features(ctx, obj.original, name)
+                mesh = export_curves_object(ctx, obj, matrix, name, camera, scene)
+                if mesh is not None:
+                    mesh.holdout = bool(getattr(obj, "is_holdout", False))
+                    meshes.append(mesh)
         elif kind not in HELPER_TYPES:
             ctx.skip(f"{kind.lower()} objects", obj.name)
     for obj_name in unsurfaced:

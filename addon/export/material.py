@@ -45,7 +45,8 @@ from .nodes import (
     shader_inputs, surface_node)
 
 SUPPORTED_SURFACES = ("BSDF_PRINCIPLED", "BSDF_DIFFUSE", "BSDF_GLOSSY", "BSDF_METALLIC", "BSDF_GLASS",
-                      "BSDF_REFRACTION", "BSDF_TRANSPARENT", "EMISSION", "MIX_SHADER", "ADD_SHADER")
+                      "BSDF_REFRACTION", "BSDF_TRANSPARENT", "EMISSION", "MIX_SHADER", "ADD_SHADER",
+                      "BSDF_HAIR_PRINCIPLED", "BSDF_HAIR")
 COLOUR_INPUTS = ("Base Color", "Color")
 WHITE = (1.0, 1.0, 1.0)
 BLACK = (0.0, 0.0, 0.0)
@@ -579,6 +580,8 @@ def _shader(ctx, owner, node, depth=0):
         return _glass(ctx, owner, node), []
     if kind == "BSDF_REFRACTION":
         return _glass(ctx, owner, node, reflect=False), []
+    if kind in ("BSDF_HAIR_PRINCIPLED", "BSDF_HAIR"):  # a substitute on the plastic / GGX models (hair.py)
+        return _hair(ctx, owner, node), []
     if kind == "BSDF_TRANSPARENT":
         colour = input_value(ctx, owner, node, ("Color",), "colour")
         return _transparent(ctx, f"{owner}: {node.name}", colour), []
@@ -597,6 +600,23 @@ def _shader(ctx, owner, node, depth=0):
         colour = DEFAULT_GREY
     return _leaf(name=f"{owner}: {node.name}", model=constants.MAT_LAMBERT, params=lambert_params(),
                  reflectance=_refl(ctx, owner, colour)), []
+
+
+def _hair(ctx, owner, node):
+    """The leaf standing in for a Principled Hair BSDF or a Hair BSDF (addon/export/hair.py)."""
+    from ...core import constants, plastic_params
+    from .hair import hair_bsdf, principled_hair
+
+    name = f"{owner}: {node.name}"
+    if node.type == "BSDF_HAIR_PRINCIPLED":
+        rgb, alpha, ior = principled_hair(ctx, owner, node)
+        return _leaf(name=name, model=constants.MAT_PLASTIC,
+                     params=plastic_params(alpha, alpha, layering="cycles", multiscatter=False),
+                     reflectance=_refl(ctx, f"{owner} hair", rgb), specular=-1, ior=_ior(ctx, owner, ior))
+    component, colour, alpha = hair_bsdf(ctx, owner, node)
+    if component == "Transmission":
+        return _transparent(ctx, name, colour)
+    return conductor_leaf(ctx, name, alpha, alpha, _perfect_conductor(ctx), -1, reflectance=_refl(ctx, owner, colour))
 
 
 def _emit_black_leaf(owner):

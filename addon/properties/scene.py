@@ -135,6 +135,13 @@ class SpectralGISceneSettings(bpy.types.PropertyGroup):
                     "and speed cost",
         default=12, min=3, max=16,
     )
+    hair_sides: IntProperty(
+        name="Hair Sides",
+        description="Faces around each round hair strand (particle hair, Curves objects) when it is "
+                    "tessellated into a tube (a count): more follow the round silhouette more closely, at "
+                    "two triangles per face and segment of memory and build time",
+        default=6, min=3, max=64,
+    )
     use_sensors: BoolProperty(
         name="Sensors",
         description="After the image, render the illuminance (lux) on the objects marked as Illuminance "

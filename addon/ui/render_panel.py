@@ -126,6 +126,7 @@ class SPECTRALGI_PT_film(SpectralGIEnginePanel, bpy.types.Panel):
         col.prop(context.scene.render, "film_transparent", text="Transparent")
         col.label(text="Combined: linear Rec.709; RGB 1 = 683 cd/m²", icon="INFO")
         draw_colour_settings(col, s)
+        col.prop(s, "hair_sides")
 
 
 def draw_colour_settings(col, s):

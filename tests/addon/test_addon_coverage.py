@@ -466,8 +466,10 @@ def test_square_and_ellipse_area_lights(ext, bpy):
 # collection instances (test_addon_export::test_collection_instances_are_exported_once_per_instance),
 # geometry-nodes instances (test_geometry_nodes_instance_on_points), hide-render
 # (test_hide_render_objects_of_every_kind_are_absent), smooth/flat (test_addon_export::
-# test_smooth_shading_exports_corner_normals, test_flat_and_smooth_faces_of_one_mesh).
+# test_smooth_shading_exports_corner_normals, test_flat_and_smooth_faces_of_one_mesh), particle hair and
+# Curves objects (test_addon_hair).
 # materials: Principled, Diffuse, Glossy, Glass, Refraction, Emission, Mix, Add (test_addon_materials),
+# Principled Hair (test_addon_hair), Hair BSDF (test_addon_hair::test_hair_bsdf_components),
 # RGB and Value (test_value_and_rgb_nodes_feed_their_inputs), Blackbody
 # (test_blackbody_node_emits_plancks_spectrum, test_blackbody_colour_follows_cycles), volumes
 # (test_addon_volumes). lights: point, spot, sun (test_addon_lights), rect and disk (test_addon_export),

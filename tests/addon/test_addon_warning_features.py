@@ -1,5 +1,5 @@
 """The one export warning names everything exported with a substitute or not at all: a
-procedural texture replaced by a constant, particle hair and a Curves object, ray visibility
+procedural texture replaced by a constant, particle hair and a Curves object (tessellated), ray visibility
 flags, a shadow catcher, light linking, motion blur, a Principled coat and sheen — each with
 the object and node names."""
 import re
@@ -29,7 +29,9 @@ def test_every_unsupported_feature_is_named_in_the_warning(ext, bpy):
     furry.modifiers.new("Fur", "PARTICLE_SYSTEM")
     furry.particle_systems[0].settings.type = "HAIR"
     furry.particle_systems[0].name = "Fur"
-    hair = bpy.data.objects.new("Strands", bpy.data.hair_curves.new("Strands"))
+    strands = bpy.data.hair_curves.new("Strands")
+    strands.add_curves([2])
+    hair = bpy.data.objects.new("Strands", strands)
     b.link(hair)
     lamp = b.light("Key", "POINT", location=(0.0, -1.0, 3.0), energy=100.0)
     coll = bpy.data.collections.new("Lit")
@@ -43,7 +45,7 @@ def test_every_unsupported_feature_is_named_in_the_warning(ext, bpy):
                      "'Grain'", "Base Color",  # the procedural texture and the input it drove
                      "'Floor'",  # as the material's user and as a shadow catcher
                      "shadow catchers", "Ghost (glossy, shadow off)", "object ray visibility",
-                     "particle hair", "Furry/Fur", "hair curves objects", "'Strands'",
+                     "Furry/Fur: hair rendered as", "Strands: curves rendered as",
                      "light and shadow linking", "'Key'", "motion blur"):
         assert expected in w, (expected, w)
     # only the floor is a shadow catcher (a light's flag means nothing)

@@ -1,7 +1,7 @@
 """Adaptive sampling under a noise target: samples saved, and the error at equal time, against
 stopping the whole image.
 
-    python benchmarks/adaptive_bench.py [--quick] [--target 0.05] [--product FILE] [--only cornell,product]
+    python benchmarks/adaptive_bench.py [--quick] [--target 0.1] [--product FILE] [--only cornell,product]
 
 For each scene (the built-in Cornell box; the product shot of ``artist_scenes.py``, built in
 Blender and exported, or read from ``--product``, a scene file that ``artist_scenes.py
@@ -84,16 +84,17 @@ def figures(film, ref_lum, target):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="64-pixel Cornell box, reference 512 spp")
-    ap.add_argument("--target", type=float, default=0.05)
-    ap.add_argument("--spp", type=int, default=1024, help="the most samples a pixel may take")
+    ap.add_argument("--quick", action="store_true", help="48-pixel Cornell box, at most 256 spp, reference 256 spp")
+    ap.add_argument("--target", type=float, default=0.1)
+    ap.add_argument("--spp", type=int, default=None, help="the most samples a pixel may take (default 512)")
     ap.add_argument("--ref-spp", type=int, default=None)
     ap.add_argument("--size", type=int, default=None, help="the Cornell box's side (the product: 2× wide, 9/8 high)")
     ap.add_argument("--product", default=None, help="the product shot as a scene file (else built with bpy)")
     ap.add_argument("--only", default="cornell,product")
     args = ap.parse_args(argv)
-    args.size = args.size or (64 if args.quick else 96)
-    args.ref_spp = args.ref_spp or (512 if args.quick else 2048)
+    args.size = args.size or (48 if args.quick else 96)
+    args.spp = args.spp or (256 if args.quick else 512)
+    args.ref_spp = args.ref_spp or (256 if args.quick else 1024)
     rows = []
     for name, make in scenes(args).items():
         from spectral_gi.core import render

@@ -22,7 +22,8 @@ reference. The script writes ``artist_<scene>_side_by_side.png`` (left Spectral 
 Cycles, equal samples) and ``artist_<scene>_dE.png`` (ΔE00 false colour) into ``--out``,
 prints per scene the mean-luminance ratio, ΔE00 mean / p95 between the two images at equal
 samples, the relative RMSE of luminance of each against the reference at equal samples and
-at equal time, and the export warning (what was substituted or left out), and records them
+at equal time, the ΔE00 p95 and the colour-only ΔE00 mean (each pixel scaled to the
+reference's luminance: coloured noise) of each against the reference, and the export warning (what was substituted or left out), and records them
 in ``benchmarks/results/artist_scenes.json``.
 
 ``--save-scenes DIR`` also saves each exported core scene as ``DIR/<scene>.json`` (core
@@ -338,6 +339,16 @@ def render_cycles(scene, samples, max_bounces, time_limit=0.0):
         scene.cycles.time_limit = old
 
 
+def chroma_error(img, ref):
+    """Mean ΔE00 of ``img`` against ``ref`` once each pixel of ``img`` is scaled to the
+    reference's luminance: the error of colour alone (coloured noise), without that of brightness."""
+    from spectral_gi.core.colour.compare import delta_e00_map, image_luminance
+
+    y, yr = image_luminance(img), image_luminance(ref)
+    scale = np.where(y > 0.0, yr / np.where(y > 0.0, y, 1.0), 1.0)
+    return float(delta_e00_map(img * scale[..., None], ref, 683.0).mean())
+
+
 def run_scene(bpy, name, args):
     from spectral_gi.core import compare_images, delta_e_image, side_by_side, write_png
 
@@ -372,6 +383,7 @@ def run_scene(bpy, name, args):
            "rel_rmse_cycles_equal_time": rr["cycles_time"]["relative_rmse"], "cycles_seconds_equal_time": t_cyc_t,
            "de_p95_engine_vs_reference": rr["ours"]["delta_e00_p95"],
            "de_p95_cycles_vs_reference": rr["cycles"]["delta_e00_p95"],
+           "chroma_de_engine": chroma_error(ours, ref), "chroma_de_cycles": chroma_error(cyc, ref),
            "cycles_spp_equal_time_estimate": cyc_spp_time, "ref_spp": args.ref_spp, "seconds_reference": t_ref,
            "warning": warning}
     print(f"\n[{name}] {w}x{h}, {spp} spp: engine {t_ours:.1f} s, Cycles {t_cyc:.1f} s; luminance ratio "
@@ -379,7 +391,8 @@ def run_scene(bpy, name, args):
           f"Cycles {args.ref_spp} spp: engine {row['rel_rmse_engine']:.3f}, Cycles {row['rel_rmse_cycles']:.3f} "
           f"(equal samples), Cycles {row['rel_rmse_cycles_equal_time']:.3f} (equal time, ~{cyc_spp_time} spp); "
           f"ΔE00 p95 vs the reference: engine {row['de_p95_engine_vs_reference']:.2f}, Cycles "
-          f"{row['de_p95_cycles_vs_reference']:.2f}")
+          f"{row['de_p95_cycles_vs_reference']:.2f}; colour-only ΔE00 mean: engine {row['chroma_de_engine']:.2f}, "
+          f"Cycles {row['chroma_de_cycles']:.2f}")
     print(f"[{name}] export warning: {warning or '(none)'}", flush=True)
     return row
 
@@ -412,11 +425,12 @@ def main(argv=None):
             f"Artists' scenes, Spectral GI vs Cycles, {args.size[0]}×{args.size[1]}, {args.spp} spp (relative RMSE of "
             f"luminance against Cycles at {args.ref_spp} spp; equal time: Cycles given the engine's render time)",
             ["scene", "luminance ratio", "ΔE00 mean", "ΔE00 p95", "rel. RMSE engine", "rel. RMSE Cycles (equal spp)",
-             "rel. RMSE Cycles (equal time)", "ΔE00 p95 vs ref.: engine / Cycles", "engine (s)", "Cycles (s)",
-             "export warning"],
+             "rel. RMSE Cycles (equal time)", "ΔE00 p95 vs ref.: engine / Cycles",
+             "colour-only ΔE00 vs ref.: engine / Cycles", "engine (s)", "Cycles (s)", "export warning"],
             [[r["scene"], round(r["luminance_ratio"], 3), round(r["de_mean"], 2), round(r["de_p95"], 2),
               round(r["rel_rmse_engine"], 3), round(r["rel_rmse_cycles"], 3), round(r["rel_rmse_cycles_equal_time"], 3),
               f"{r['de_p95_engine_vs_reference']:.2f} / {r['de_p95_cycles_vs_reference']:.2f}",
+              f"{r['chroma_de_engine']:.2f} / {r['chroma_de_cycles']:.2f}",
               round(r["seconds_engine"], 1), round(r["seconds_cycles"], 1), r["warning"] or "none"] for r in rows])
         results.write("artist_scenes", [table], conditions={"size": list(args.size), "spp": args.spp,
                                                              "ref_spp": args.ref_spp, "scenes": names,

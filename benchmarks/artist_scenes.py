@@ -23,8 +23,9 @@ Cycles, equal samples) and ``artist_<scene>_dE.png`` (ΔE00 false colour) into `
 prints per scene the mean-luminance ratio, ΔE00 mean / p95 between the two images at equal
 samples, the relative RMSE of luminance of each against the reference at equal samples and
 at equal time, the ΔE00 p95 and the colour-only ΔE00 mean (each pixel scaled to the
-reference's luminance: coloured noise) of each against the reference, and the export warning (what was substituted or left out), and records them
-in ``benchmarks/results/artist_scenes.json``.
+reference's luminance: coloured noise) of each against the reference, and the export
+warning (what was substituted or left out), and records them in
+``benchmarks/results/artist_scenes.json``.
 
 ``--save-scenes DIR`` also saves each exported core scene as ``DIR/<scene>.json`` (core
 ``save_scene``), for benchmarks that run without Blender (``adaptive_bench.py``).

@@ -164,8 +164,9 @@ def _parser():
     r.add_argument("--time-limit", type=_float_in(0.0, 1e9),
                    help="stop after this many seconds of rendering (default: the scene's; 0: none)")
     r.add_argument("--noise-target", type=_float_in(0.0, 1e6),
-                   help="stop once 95 %% of the pixels have a relative standard error of luminance at most this, "
-                        "after Cycles' minimum samples (e.g. 0.05; default: the scene's; 0: none)")
+                   help="adaptive sampling: after Cycles' minimum samples, a pixel stops receiving samples once "
+                        "its relative standard error of luminance, and its neighbours', is at most this (e.g. "
+                        "0.05; default: the scene's; 0: none)")
     r.add_argument("--colour-space", "--color-space", dest="colour_space", choices=("rec709", "acescg", "xyz"),
                    help="colour space of the EXR's R, G, B channels: linear Rec.709, ACEScg (AP1) or CIE XYZ "
                         "(default: the scene's, rec709); the PNG preview is always sRGB")
@@ -463,6 +464,10 @@ def _render(args, stop):
     if stats.stop_reason in ("time_limit", "noise_target"):
         sys.stderr.write(f"stopped at {stats.spp} of {st.spp} spp: {stats.stop_reason.replace('_', ' ')} reached "
                          f"(relative error {stats.relative_error:.3g})\n")
+    if stats.skipped_samples:
+        total = stats.spp * film.width * film.height
+        sys.stderr.write(f"adaptive sampling: {stats.skipped_samples / total:.0%} of the {total} samples were not "
+                         "needed (converged pixels)\n")
     if stats.cancelled:
         sys.stderr.write(f"stopped early at {stats.spp} of {st.spp} spp\n")
         return EXIT_INTERRUPTED

@@ -111,8 +111,8 @@ class SpectralGISceneSettings(bpy.types.PropertyGroup):
     )
     noise_target: FloatProperty(
         name="Noise Target",
-        description="Stop once 95 % of the pixels have a relative standard error of luminance below "
-                    "this fraction, after Cycles' minimum samples (0: off; 0.01 = 1 %)",
+        description="Adaptive sampling: after Cycles' minimum samples, a pixel stops receiving samples once "
+                    "its relative standard error of luminance is below this fraction (0: off; 0.01 = 1 %)",
         default=0.0, min=0.0, max=1.0, soft_max=0.1, precision=4,
     )
     white_balance: EnumProperty(

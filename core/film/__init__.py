@@ -146,6 +146,9 @@ class Film:
         self._view = None  # (sums, spectral, aov) of the whole chunks plus the tail, once formed
         self._spare = None  # a tail's arrays kept for the next chunk
         self.spp = 0
+        # samples of the spp × pixels that adaptive sampling did not take (pixels that had
+        # converged: core/integrators/render.py adaptive_mask); each pixel's count is sums[..., 3]
+        self.skipped_samples = 0
 
     # ------------------------------------------------------------------ the image's arrays
 
@@ -202,9 +205,11 @@ class Film:
         return self.spp - self.tail_spp
 
     def dropped_samples(self):
-        """How many of the film's spp × pixels samples it does not hold: the path kernel leaves
-        out a sample that is not finite (NaN or Inf, which validated input cannot produce)."""
-        return int(round(self.spp * self.width * self.height - float(self.sums[..., 3].sum())))
+        """How many of the samples taken (spp × pixels, less the ``skipped_samples`` of adaptive
+        sampling) the film does not hold: the path kernel leaves out a sample that is not finite
+        (NaN or Inf, which validated input cannot produce)."""
+        taken = self.spp * self.width * self.height - self.skipped_samples
+        return int(round(taken - float(self.sums[..., 3].sum())))
 
     def _blank(self):
         f = Film(self.width, self.height, self.spectral_bins, observer=self.observer)
@@ -275,6 +280,7 @@ class Film:
         f._spectral = self._spectral.copy()
         f._aov = self._aov.copy()
         f.spp = self.spp
+        f.skipped_samples = self.skipped_samples
         if self._tail is not None:
             f._tail = self._tail.copy()
             f.tail_spp = self.tail_spp
@@ -297,7 +303,8 @@ class Film:
                     "tail_spectral": self._tail._spectral, "tail_aov": self._tail._aov}
         np.savez_compressed(buf, format=np.array(FILM_FORMAT), version=np.array(FILM_VERSION),
                             spp=np.array(self.spp, np.int64), observer=np.array(self.observer), sums=self._sums,
-                            spectral=self._spectral, aov=self._aov, **tail)
+                            spectral=self._spectral, aov=self._aov,
+                            skipped=np.array(self.skipped_samples, np.int64), **tail)
         write_bytes(Path(path), buf.getvalue())
         return Path(path)
 
@@ -354,6 +361,12 @@ class Film:
                         raise bad(f"spectral: {spectral.shape[2]} bins (1 to {MAX_SPECTRAL_BINS})")
                 elif spectral.dtype != np.float64:
                     raise bad(f"spectral: expected float64, got {spectral.dtype}")
+                skipped = 0
+                if "skipped" in z:  # samples adaptive sampling did not take (absent: none)
+                    k = get("skipped")
+                    if k.shape != () or k.dtype.kind not in "iu" or not 0 <= int(k) <= int(spp) * h * w:
+                        raise bad("skipped: expected an integer in [0, spp × pixels]")
+                    skipped = int(k)
                 tail = None
                 if "tail_sums" in z:  # the incomplete chunk, summed apart (see the class)
                     n = get("tail_spp")
@@ -374,6 +387,7 @@ class Film:
 
         f = film((sums, spectral, aov))
         f.spp = int(spp)
+        f.skipped_samples = skipped
         if tail is not None:
             f._tail, f.tail_spp = film(tail[1:]), tail[0]
         return f

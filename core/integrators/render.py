@@ -100,13 +100,18 @@ def kernel_records(prep):
     return med, txr
 
 
-def _rows(prep, film, y0, y1, s0, s1):
+# The path kernel's pixel mask when every pixel is sampled: an empty array (one type for both
+# cases, so that adaptive sampling compiles no second kernel; see adaptive_mask)
+ALL_PIXELS = np.zeros((0, 0), np.uint8)
+
+
+def _rows(prep, film, y0, y1, s0, s1, active=None):
     from .path import render_rows, scratch
 
     med, txr = kernel_records(prep)
     render_rows(int(y0), int(y1), int(s0), int(s1), film_record.pack(film, prep.cmf), prep.geometry,
                 prep.materials, prep.emitters, med, txr, prep.camera, prep.settings,
-                scratch(prep.materials.params.shape[1]))
+                scratch(prep.materials.params.shape[1]), ALL_PIXELS if active is None else active)
 
 
 def thread_count(threads=None):
@@ -116,8 +121,9 @@ def thread_count(threads=None):
     return max(1, os.cpu_count() or 1)
 
 
-def run_pass(prep: Prepared, film: Film, s0: int, s1: int, pool=None):
-    """Add samples [s0, s1) of every pixel to ``film``.
+def run_pass(prep: Prepared, film: Film, s0: int, s1: int, pool=None, active=None):
+    """Add samples [s0, s1) of every pixel to ``film`` (of the pixels where ``active``, a
+    uint8 (H, W) mask, is not 0, when given: adaptive sampling).
 
     With a ``concurrent.futures`` ``pool``, blocks of rows run on its threads (the kernel
     releases the GIL); without one, on the calling thread. The result is the same. The
@@ -127,29 +133,39 @@ def run_pass(prep: Prepared, film: Film, s0: int, s1: int, pool=None):
     if film.tail_spp:
         raise ValueError("run_pass: the film holds an incomplete chunk apart; add samples with add_samples")
     h = film.height
+    if active is not None:
+        active = np.ascontiguousarray(active, np.uint8)
+        if active.shape != (h, film.width):
+            raise ValueError(f"run_pass: the mask is {active.shape}, the film {(h, film.width)}")
     if pool is None:
-        _rows(prep, film, 0, h, s0, s1)
+        _rows(prep, film, 0, h, s0, s1, active)
     else:
         workers = getattr(pool, "_max_workers", 1)
-        block = max(1, h // (8 * workers))  # several blocks per thread balance the load
-        futures = [pool.submit(_rows, prep, film, y, min(h, y + block), s0, s1) for y in range(0, h, block)]
+        rows = np.arange(h) if active is None else np.flatnonzero(active.any(axis=1))
+        block = max(1, len(rows) // (8 * workers))  # several blocks per thread balance the load
+        spans = [(int(rows[i]), int(rows[min(i + block, len(rows)) - 1]) + 1) for i in range(0, len(rows), block)]
+        futures = [pool.submit(_rows, prep, film, a, b, s0, s1, active) for a, b in spans]
         for f in futures:
             f.result()
     film.spp = s1
 
 
-def add_samples(prep: Prepared, film: Film, s0: int, s1: int, pool=None):
+def add_samples(prep: Prepared, film: Film, s0: int, s1: int, pool=None, active=None):
     """Add samples [s0, s1) (s0 = film.spp) to ``film`` in the film's order of additions
     (core/film ``Film``: each chunk's samples summed from zero, the chunks added in order),
-    so the image is the same for any split of the samples into passes or farm tasks."""
+    so the image is the same for any split of the samples into passes or farm tasks.
+    ``active``: the pixels to sample (``run_pass``); the others' samples are counted in
+    ``film.skipped_samples``."""
     from ..film import chunk_spans
 
     if s0 != film.spp:
         raise ValueError(f"add_samples: the film has {film.spp} spp, the samples start at {s0}")
     for a, b in chunk_spans(s0, s1):
         part = film.open_chunk()
-        run_pass(prep, part, a, b, pool)
+        run_pass(prep, part, a, b, pool, active)
         film.merge_chunk(part, b)
+    if active is not None:
+        film.skipped_samples += (s1 - s0) * int(active.size - np.count_nonzero(active))
 
 
 @dataclass
@@ -163,13 +179,16 @@ class RenderStats:
     stop_reason: str = "spp"  # "spp" (all samples), "time_limit", "noise_target" or "cancelled"
     relative_error: float = float("nan")  # the noise target's measure (relative_error): per-pixel, 95th percentile
     dropped_samples: int = 0  # samples the film does not hold for not being finite (Film.dropped_samples)
+    skipped_samples: int = 0  # samples of spp × pixels that adaptive sampling did not take (converged pixels)
 
 
 # The noise target judges each pixel's relative standard error of luminance (as Cycles'
-# adaptive sampling judges each pixel): the render stops once NOISE_QUANTILE of the pixels are
-# within the target. A pixel darker than NOISE_DARK × the image's mean luminance is judged
-# against that luminance instead of its own (a black or nearly black pixel's relative error is
-# no measure of visible noise; Cycles likewise relaxes its criterion in dark pixels).
+# adaptive sampling judges each pixel): adaptive sampling stops each pixel within it (below);
+# stopping the whole image, the render stops once NOISE_QUANTILE of the pixels are within the
+# target (the measure RenderStats reports in either case). A pixel darker than NOISE_DARK × the
+# image's mean luminance is judged against that luminance instead of its own (a black or nearly
+# black pixel's relative error is no measure of visible noise; Cycles likewise relaxes its
+# criterion in dark pixels).
 NOISE_QUANTILE = 0.95
 NOISE_DARK = 0.05
 
@@ -224,6 +243,39 @@ def noise_samples_needed(film, target):
     return max(film.spp + 1, math.ceil(film.spp * (err / target) ** 2))
 
 
+# Adaptive sampling (settings.noise_target, as Cycles'): past the minimum samples, and then every
+# ADAPTIVE_STEP samples, each pixel whose relative standard error is within the target stops
+# receiving samples, unless a neighbour (3 × 3) still needs them. Cycles checks every 16 samples
+# (intern/cycles/scene/integrator.cpp, get_adaptive_sampling) and dilates its unconverged pixels
+# by one pixel in x, then in y (intern/cycles/kernel/film/adaptive_sampling.h). 16 is the film's
+# CHUNK_SPP too, so the mask changes only between chunks.
+ADAPTIVE_STEP = 16
+
+
+def adaptive_check_at(film, target):
+    """The sample count at which the adaptive mask is next judged: the first multiple of
+    ADAPTIVE_STEP at or past both Cycles' minimum samples and one more than ``film.spp``."""
+    first = max(noise_min_samples(target), film.spp + 1)
+    return -(-first // ADAPTIVE_STEP) * ADAPTIVE_STEP
+
+
+def adaptive_mask(film, target, active=None):
+    """uint8 (H, W): the pixels that go on receiving samples under the noise ``target``: those
+    of ``active`` (all when None) whose relative standard error (pixel_relative_errors) is above
+    the target, with their eight neighbours (a converged pixel next to a noisy one goes on,
+    as Cycles' filter of its convergence mask)."""
+    need = pixel_relative_errors(film) > target
+    if active is not None:
+        need &= active != 0
+    out = need.copy()
+    out[:, 1:] |= need[:, :-1]
+    out[:, :-1] |= need[:, 1:]
+    rows = out.copy()
+    out[1:] |= rows[:-1]
+    out[:-1] |= rows[1:]
+    return out.astype(np.uint8)
+
+
 def noise_reached(film, target):
     """True when ``film`` meets the noise target: at least noise_min_samples(target) samples and
     relative_error(film) ≤ target."""
@@ -249,7 +301,8 @@ def start_film(scene, resume=None, spectral_bins=0):
 
 
 def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_pass=None, status=None,
-           spectral_bins=0, resume=None, measure=False, client=None, batch_spp=None, checkpoint=None):
+           spectral_bins=0, resume=None, measure=False, client=None, batch_spp=None, checkpoint=None,
+           adaptive=True):
     """Render ``scene`` to a :class:`Film`.
 
     progress(done_spp, total_spp, samples_per_second) after each pass;
@@ -261,10 +314,13 @@ def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_
     resume: a Film of this scene (e.g. from Film.load) to continue from its spp up to the
     scene's; the result is bit-identical to rendering all samples at once (the Hammersley
     sampler excepted: its points depend on the total). The given film is not modified.
-    The scene's settings.time_limit (s) and settings.noise_target (each pixel's relative
-    standard error of luminance, judged over NOISE_QUANTILE of the pixels after Cycles'
-    minimum samples; ``relative_error``) stop the render early; RenderStats.stop_reason says
-    why. The whole image stops at once (no per-pixel allocation).
+    The scene's settings.time_limit (s) and settings.noise_target stop the render early;
+    RenderStats.stop_reason says why. The noise target is each pixel's relative standard error
+    of luminance (``pixel_relative_errors``): with ``adaptive`` (the default) a pixel stops
+    receiving samples once it and its neighbours are within it, judged every ADAPTIVE_STEP
+    samples after Cycles' minimum (``adaptive_mask``; the film counts each pixel's samples),
+    and the render stops when no pixel is left; adaptive=False (and a farm) stops the whole
+    image at once when NOISE_QUANTILE of the pixels are within it (``relative_error``).
     measure=True renders the illuminance of the scene's sensor meshes instead (see
     core/sensors.py, which turns the film into lux).
     client: a dask.distributed Client (or a scheduler address, or "local:N"): the samples
@@ -304,7 +360,7 @@ def render(scene: Scene, *, threads=None, progress=None, should_cancel=None, on_
         helper = warmup.start()
         try:
             return _render(scene, n_threads, say, helper, progress, should_cancel, on_pass, spectral_bins, resume,
-                           measure, checkpoint, release)
+                           measure, checkpoint, release, adaptive)
         finally:
             warmup.finish(helper)
     finally:
@@ -378,7 +434,7 @@ def check_render_inputs(scene, spectral_bins=0, resume=None):
 
 
 def _render(scene, n_threads, say, helper, progress, should_cancel, on_pass, spectral_bins, resume, measure,
-            checkpoint=None, release=None):
+            checkpoint=None, release=None, adaptive=True):
     t_start = time.perf_counter()
     say("Preparing scene" if helper is None else "Compiling kernels (first run only): preparing scene")
     cold = not kernels_compiled()
@@ -413,7 +469,8 @@ def _render(scene, n_threads, say, helper, progress, should_cancel, on_pass, spe
     say("Rendering")
     pool = ThreadPoolExecutor(max_workers=n_threads, thread_name_prefix="spectral-gi") if n_threads > 1 else None
     try:
-        film, stats = _progressive(prep, film, pool, total, progress, should_cancel, on_pass, t_compile, checkpoint)
+        film, stats = _progressive(prep, film, pool, total, progress, should_cancel, on_pass, t_compile, checkpoint,
+                                   adaptive)
         if checkpoint is not None:
             film.save(checkpoint)
         return film, stats
@@ -422,30 +479,38 @@ def _render(scene, n_threads, say, helper, progress, should_cancel, on_pass, spe
             pool.shutdown(wait=True)
 
 
-def _progressive(prep, film, pool, total, progress, should_cancel, on_pass, t_compile, checkpoint=None):
+def _progressive(prep, film, pool, total, progress, should_cancel, on_pass, t_compile, checkpoint=None,
+                 adaptive=True):
     cam = prep.scene.camera
     st = prep.scene.settings
     t0 = time.perf_counter()
     start = done = int(film.spp)
+    skipped0 = film.skipped_samples
     saved = t0
     step = 1
     reason = "spp"
+    per_pixel = adaptive and st.noise_target > 0  # adaptive sampling (adaptive_mask)
+    active = None  # the pixels still sampled; None: all
+    check = adaptive_check_at(film, st.noise_target) if per_pixel else 0
     while done < total:
         if should_cancel is not None and should_cancel():
             reason = "cancelled"
             break
         n = min(step, total - done)
+        if per_pixel:  # a pass ends where the mask is judged
+            n = min(n, check - done)
         if st.time_limit > 0:  # aim the pass at what is left of the time
             left = st.time_limit - (time.perf_counter() - t0)
             if left <= 0:
                 reason = "time_limit"
                 break
         tp = time.perf_counter()
-        add_samples(prep, film, done, done + n, pool)
+        add_samples(prep, film, done, done + n, pool, active)
         dt = time.perf_counter() - tp
         done += n
         elapsed = time.perf_counter() - t0
-        rate = (done - start) * cam.width * cam.height / max(elapsed, 1e-9)
+        taken = (done - start) * cam.width * cam.height - (film.skipped_samples - skipped0)
+        rate = taken / max(elapsed, 1e-9)
         if progress is not None:
             progress(done, total, rate)
         if on_pass is not None:
@@ -458,7 +523,14 @@ def _progressive(prep, film, pool, total, progress, should_cancel, on_pass, t_co
         if st.time_limit > 0 and elapsed >= st.time_limit:
             reason = "time_limit"
             break
-        if noise_reached(film, st.noise_target):
+        if per_pixel:
+            if done >= check:
+                active = adaptive_mask(film, st.noise_target, active)
+                check = adaptive_check_at(film, st.noise_target)
+                if not active.any():
+                    reason = "noise_target"
+                    break
+        elif noise_reached(film, st.noise_target):
             reason = "noise_target"
             break
         # adapt the pass length towards PASS_SECONDS (and within a time limit)
@@ -467,10 +539,11 @@ def _progressive(prep, film, pool, total, progress, should_cancel, on_pass, t_co
             if st.time_limit > 0:
                 target = min(target, max(st.time_limit - elapsed, 0.0))
             step = int(max(1, min(step * 4, round(n * target / dt))))
-        if st.noise_target > 0:  # end the next pass where the target should be met, not far past it
+        if st.noise_target > 0 and not per_pixel:  # end the next pass where the target should be met
             step = min(step, max(1, noise_samples_needed(film, st.noise_target) - done))
     elapsed = time.perf_counter() - t0
-    stats = RenderStats(done, elapsed, (done - start) * cam.width * cam.height / max(elapsed, 1e-9),
+    taken = (done - start) * cam.width * cam.height - (film.skipped_samples - skipped0)
+    stats = RenderStats(done, elapsed, taken / max(elapsed, 1e-9),
                         reason == "cancelled", prep.build_seconds, t_compile, reason, relative_error(film),
-                        film.dropped_samples())
+                        film.dropped_samples(), film.skipped_samples)
     return film, stats

@@ -44,6 +44,7 @@ import numpy as np
 
 from .. import constants as C
 from ..jit import function, inline
+from ..sampling.sphtri import sample_spherical_triangle, spherical_triangle_solid_angle
 from ..sampling.warps import cone_one_minus_cos, sample_uniform_cone
 
 # light_geo row layout
@@ -144,6 +145,49 @@ def profile_factor(geo, prof, li, qx, qy, qz):
     return lo * (1.0 - fc) + hi * fc
 
 
+# A rectangle that subtends at least this solid angle (sr) at the lit point is sampled
+# uniformly in solid angle, as two spherical triangles (Arvo 1995, core/sampling/sphtri.py),
+# else by area. Area sampling's estimate carries cos θ_y / d² of each point: near a light
+# (a wall beside an area light) it scatters widely and makes fireflies, also in the light
+# the wall passes on; uniform in solid angle it carries none. Cycles samples its rectangular
+# lights by solid angle too (the spherical rectangle of Ureña, Fajardo and King 2013,
+# intern/cycles/kernel/light/area.h). The rule depends on the point and the light only, so
+# ``hit_light`` gives a BSDF-sampled hit the same pdf.
+RECT_SOLID_ANGLE_MIN = 1e-4
+
+
+@inline
+def _rect_corners(geo, li, px, py, pz):
+    """The rectangle's corners A = c − u − v, B = c + u − v, C = c + u + v, D = c − u + v
+    relative to p, as a 12-tuple."""
+    cx = geo[li, 0] - px
+    cy = geo[li, 1] - py
+    cz = geo[li, 2] - pz
+    ux, uy, uz = geo[li, 3], geo[li, 4], geo[li, 5]
+    vx, vy, vz = geo[li, 6], geo[li, 7], geo[li, 8]
+    return (cx - ux - vx, cy - uy - vy, cz - uz - vz, cx + ux - vx, cy + uy - vy, cz + uz - vz,
+            cx + ux + vx, cy + uy + vy, cz + uz + vz, cx - ux + vx, cy - uy + vy, cz - uz + vz)
+
+
+@inline
+def _rect_solid_angles(q):
+    """Solid angles of the triangles A B C and A C D of the corners ``q`` (_rect_corners)."""
+    o1 = spherical_triangle_solid_angle(q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7], q[8])
+    o2 = spherical_triangle_solid_angle(q[0], q[1], q[2], q[6], q[7], q[8], q[9], q[10], q[11])
+    return o1, o2
+
+
+@inline
+def _rect_direction(q, o1, o2, ua, ub):
+    """A direction uniform in the spherical rectangle: triangle A B C with probability
+    Ω1 / (Ω1 + Ω2) (u1 rescaled to that interval), else A C D."""
+    f = o1 / (o1 + o2)
+    if ua < f:
+        return sample_spherical_triangle(q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7], q[8], min(ua / f, 1.0), ub)
+    u1 = min((ua - f) / (1.0 - f), 1.0)
+    return sample_spherical_triangle(q[0], q[1], q[2], q[6], q[7], q[8], q[9], q[10], q[11], u1, ub)
+
+
 @function
 def sample_light(kind, geo, prof, li, two_sided, px, py, pz, ua, ub):
     """Sample a direction from (px, py, pz) towards analytic light ``li``.
@@ -153,6 +197,21 @@ def sample_light(kind, geo, prof, li, two_sided, px, py, pz, ua, ub):
     multiplies ``light_scale · spectrum``: facing / spot mask, and 1/d² for a delta point
     or spot. fac = 0 means no contribution.
     """
+    if kind == C.LIGHT_RECT:
+        q = _rect_corners(geo, li, px, py, pz)
+        o1, o2 = _rect_solid_angles(q)
+        if o1 + o2 >= RECT_SOLID_ANGLE_MIN:
+            wx, wy, wz, tpdf = _rect_direction(q, o1, o2, ua, ub)
+            nx = geo[li, LG_N]
+            ny = geo[li, LG_N + 1]
+            nz = geo[li, LG_N + 2]
+            den = wx * nx + wy * ny + wz * nz
+            if not (tpdf > 0.0) or den == 0.0:
+                return 0.0, 0.0, 1.0, 0.0, 0.0, 0.0
+            dist = ((geo[li, 0] - px) * nx + (geo[li, 1] - py) * ny + (geo[li, 2] - pz) * nz) / den
+            if not (dist > 0.0) or (den > 0.0 and not two_sided):
+                return wx, wy, wz, max(dist, 0.0), 0.0, 0.0
+            return wx, wy, wz, dist, 1.0 / (o1 + o2), 1.0
     if kind == C.LIGHT_RECT or kind == C.LIGHT_ELLIPSE:
         if kind == C.LIGHT_RECT:
             a = 2.0 * ua - 1.0
@@ -274,6 +333,10 @@ def hit_light(kind, geo, prof, li, two_sided, ox, oy, oz, dx, dy, dz, tmax):
             return np.inf, 0.0, 0.0
         if den > 0.0 and not two_sided:
             return t, 0.0, 0.0
+        if kind == C.LIGHT_RECT:
+            o1, o2 = _rect_solid_angles(_rect_corners(geo, li, ox, oy, oz))
+            if o1 + o2 >= RECT_SOLID_ANGLE_MIN:
+                return t, 1.0, 1.0 / (o1 + o2)
         return t, 1.0, t * t / (geo[li, LG_AREA] * abs(den))
     if kind == C.LIGHT_SUN:
         return np.inf, 0.0, 0.0

@@ -298,7 +298,7 @@ class RenderSettings:
     filter: int = C.FILTER_BLACKMAN_HARRIS  # FILTER_* (pixel filter, Cycles' default)
     filter_width: float = 1.5  # pixels
     time_limit: float = 0.0  # seconds; 0 = none
-    noise_target: float = 0.0  # stop when 95 % of pixels' relative standard errors of luminance are below; 0 = none
+    noise_target: float = 0.0  # adaptive sampling: a pixel stops once its relative error of luminance is below
     next_event: bool = True  # False: the naive reference integrator (BSDF sampling only, no NEE, no MIS)
     colour_space: str = "rec709"  # output colour space of the image: 'rec709', 'acescg' or 'xyz' (core.film)
     observer: str = "1931"  # CIE observer of the film's XYZ: '1931' (2°) or '1964' (10°); photometry is V(λ)

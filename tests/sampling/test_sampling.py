@@ -731,17 +731,25 @@ def test_harness_rejects_a_wrong_sampler():
 
 
 def test_visible_wavelength_sampling_inverts_its_cdf_and_reports_its_density():
-    """The path kernel's wavelength draw: λ(u) inverts the cdf (tanh(B(λ − λc)) − TA)/(TB − TA),
-    the density it returns from tanh (sech² = 1 − tanh²) equals the cosh form, and that
-    density integrates to 1 over the visible range."""
+    """The path kernel's wavelength draw: λ(u) inverts the cdf of the mixture (1 − m) sech² + m
+    (x̄ + ȳ + z̄) (integrated here from its definition, independently of the table), the density
+    it returns is that of λ (visible_pdf) and integrates to 1 over the visible range, and it is
+    the mixture's within the table's resolution."""
     from spectral_gi.core import constants as C
     from spectral_gi.core.integrators import path as P
+    from spectral_gi.core.io import presets
 
     u = np.linspace(0.0, 1.0, 2001)[:-1] + 1.0 / 4002
     lam, pdf = np.array([P.sample_visible(v) for v in u]).T
     assert np.all(np.diff(lam) > 0) and lam[0] > C.LAMBDA_MIN and lam[-1] < C.LAMBDA_MAX
-    cdf = (np.tanh(P.VIS_B * (lam - P.VIS_C)) - P.VIS_TA) / (P.VIS_TB - P.VIS_TA)
-    np.testing.assert_allclose(cdf, u, atol=1e-12)
+    grid = np.linspace(C.LAMBDA_MIN, C.LAMBDA_MAX, 47001)
+    wl, xyz = presets.cmfs("1931")
+    cie = sum(np.interp(grid, wl, xyz[:, k], left=0.0, right=0.0) for k in range(3))
+    sech = 1.0 / np.cosh(P.VIS_B * (grid - P.VIS_C)) ** 2
+    mix = (1 - P.VIS_MIX) * sech / np.trapz(sech, grid) + P.VIS_MIX * cie / np.trapz(cie, grid)
+    cdf = np.concatenate([[0.0], np.cumsum(0.5 * (mix[1:] + mix[:-1]) * np.diff(grid))])
+    np.testing.assert_allclose(np.interp(lam, grid, cdf / cdf[-1]), u, atol=2e-4)
     np.testing.assert_allclose(pdf, [P.visible_pdf(x) for x in lam], rtol=1e-10)
-    grid = np.linspace(C.LAMBDA_MIN, C.LAMBDA_MAX, 20001)
-    assert np.trapz([P.visible_pdf(x) for x in grid], grid) == pytest.approx(1.0, rel=1e-7)
+    np.testing.assert_allclose(pdf, np.interp(lam, grid, mix / cdf[-1]), rtol=0.03)
+    dens = np.array([P.visible_pdf(x) for x in grid])
+    assert np.trapz(dens, grid) == pytest.approx(1.0, rel=1e-4)

@@ -259,7 +259,7 @@ def _trace_on(geo, mat, emt, med, txr, st, smp, cfg, scr, ray, state, rr, vis, r
         media.start_path(med.med_tab, medium, scr.work[0], scr.mw)
     while True:
         t, prim, bu, bv, t_end, dim = _segment(geo, mat, emt, st, smp, cfg, scr, (ox, oy, oz), (dx, dy, dz), t_lo,
-                                               medium, max(depth, 1), dim, prev_delta, prev_pdf, vis, rc)
+                                               medium, max(depth, 1), dim, (prev_delta, prev_pdf), vis, rc)
         if medium >= 0:
             if t_end < t:
                 alive, ox, oy, oz, dx, dy, dz, prev_pdf, depth, dim = _medium_scatter(
@@ -272,9 +272,6 @@ def _trace_on(geo, mat, emt, med, txr, st, smp, cfg, scr, ray, state, rr, vis, r
                 t_lo = 0.0
                 continue
             media.segment(medium, scr.mw, beta, t - t_lo, t_end < t)
-        if vis is not None and prim >= 0 and (vis.tri_vis[prim] & (1 << rc[0])) != 0:
-            t_lo = t + eps  # hidden from rays of this class: go straight on
-            continue
         if prim < 0:
             if emt.world_par[3] > 0.0 or emt.world_spec >= 0:
                 _world_hit((dx, dy, dz), prev_delta or not do_nee, prev_pdf, scr, mat.spec, emt)
@@ -305,7 +302,7 @@ def _trace_on(geo, mat, emt, med, txr, st, smp, cfg, scr, ray, state, rr, vis, r
         shade = _shading_frame((snx, sny, snz), (dx, dy, dz))
         flags_m = bsdf_flags(model, pm)
         if do_nee and (flags_m & (BSDF_DIFFUSE | BSDF_GLOSSY)) != 0:
-            _surface_nee(geo, mat, emt, med, st, smp, cfg, scr, dim, hit, shade, prim, model, pm, mix_w,
+            _surface_nee(geo, mat, emt, med, st, smp, cfg, scr, dim, hit, shade, prim, (model, pm, mix_w),
                          (medium, outer), vis)
         dim += 3
         flags, wix, wiy, wiz, pdf, q, dispersed, dim = _bsdf_step(mat, st, smp, cfg, scr, dim, shade[9:], model, pm,

@@ -736,17 +736,23 @@ def _camera_sample(camr, st, smp, x, y, width, height, thin_lens, scr):
 
 
 @fragment
-def _segment(geo, mat, emt, st, smp, cfg, scr, o, d, t_lo, medium, depth, dim, prev_delta, prev_pdf, vis, rc):
+def _segment(geo, mat, emt, st, smp, cfg, scr, o, d, t_lo, medium, depth, dim, prev, vis, rc):
     """The ray (o, d) from t_lo: its closest hit (t, prim, bu, bv), in a medium the free-flight
     distance (t_end < t: a scattering event comes first; one dimension drawn), and the
     emission of the analytic lights it meets before t_end added to L (hit for their emission,
-    never occluders, as in Cycles; vis, rc: the visibility record and the ray's class and
-    receiving triangle, ``_vis_hit``). Returns (t, prim, bu, bv, t_end, dim)."""
+    never occluders, as in Cycles; prev = (the previous event was a delta one, its pdf); vis, rc:
+    the visibility record and the ray's class and receiving triangle, ``_vis_hit``: triangles
+    hidden from the ray's class are passed). Returns (t, prim, bu, bv, t_end, dim)."""
     do_nee = cfg[0]
     ox, oy, oz = o
     dx, dy, dz = d
     key, pseed, s = smp
+    prev_delta, prev_pdf = prev
     t, prim, bu, bv = trace_closest(ox, oy, oz, dx, dy, dz, t_lo, np.inf, geo.nodes, geo.tris, scr.stack)
+    if vis is not None:
+        while prim >= 0 and (vis.tri_vis[prim] & (1 << rc[0])) != 0:  # hidden from rays of this class
+            t, prim, bu, bv = trace_closest(ox, oy, oz, dx, dy, dz, t + cfg[1], np.inf, geo.nodes, geo.tris,
+                                            scr.stack)
     t_end = t
     if medium >= 0:
         t_end = min(t, t_lo + media.free_flight(medium, scr.mw, rnd_f(st.sampler, key, pseed, s, dim, st.n_total)))
@@ -1046,17 +1052,18 @@ def _albedo(mat, txr, m, tex_base, rgb, mix_w, axyz):
 
 
 @fragment
-def _surface_nee(geo, mat, emt, med, st, smp, cfg, scr, dim, hit, shade, prim, model, pm, mix_w, vol, vis):
+def _surface_nee(geo, mat, emt, med, st, smp, cfg, scr, dim, hit, shade, prim, bsdf, vol, vis):
     """Next-event estimation at a surface hit: one emitter picked in proportion to its power
-    (dimension dim), a point or direction on it (dim + 1, dim + 2), the BSDF (model, pm) at
-    the hit (hit = (px, py, pz, nx, ny, nz, area, cos_i); shade from ``_shading_frame``) and a
-    shadow ray through the media ``vol`` = (medium, outer); the light's contribution, MIS
+    (dimension dim), a point or direction on it (dim + 1, dim + 2), the BSDF bsdf = (model,
+    parameter row, mix weight) at the hit (hit = (px, py, pz, nx, ny, nz, area, cos_i); shade
+    from ``_shading_frame``) and a shadow ray through the media ``vol`` = (medium, outer); the light's contribution, MIS
     weighted against BSDF sampling (delta lights: NEE only), added to L. vis: the visibility
     record (None: none): light and shadow linking, hidden emitters, shadowless lights."""
     eps = cfg[1]
     has_media = cfg[2]
     px, py, pz, nx, ny, nz, area, cos_i = hit
     snx, sny, snz, tx, ty, tz, cx, cy, cz, wox, woy, woz = shade
+    model, pm, mix_w = bsdf
     key, pseed, s = smp
     sampler = st.sampler
     n_total = st.n_total
@@ -1217,12 +1224,9 @@ def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr, vis)
     The records (each field documented where it is defined): fr core/film/record.py, geo
     core/geometry/record.py, mat core/bsdfs/record.py, emt core/lights/record.py, med
     core/media/record.py, txr core/textures/record.py, camr core/camera/record.py, st
-    core/integrators/settings.py, scr ``Scratch``, vis core/geometry/visibility.py. med, txr
-    and vis are None for a scene without media (and null surfaces), without image textures
-    or without visibility flags and links (``render.kernel_records``): numba prunes the
-    branches on ``med is None``, ``txr is None`` and ``vis is None`` at compile time, so the
-    kernel for such a scene (the Cornell box) compiles none of the media, texture or
-    visibility code.
+    core/integrators/settings.py, scr ``Scratch``, vis core/geometry/visibility.py; med, txr,
+    vis are None for a scene without media or null surfaces, image textures, visibility flags:
+    numba prunes the branches on them at compile time (``render.kernel_records``).
 
     A serial kernel that releases the GIL: the renderer runs blocks of rows on a pool of
     Python threads (compiling a prange kernel takes four times as long, and numba's
@@ -1244,8 +1248,6 @@ def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr, vis)
     # counted with weight 1), against which tests check the NEE + MIS estimator
     do_nee = st.nee != 0 and emt.emit_prob.shape[0] > 0
     eps = EPS_REL * st.scene_scale
-    # med None, txr None: a scene without media (or null surfaces), without image textures;
-    # numba prunes the branches on them, so that kernel compiles none of their code
     has_media = False
     cam_medium = np.int64(-1)
     if med is not None:
@@ -1287,8 +1289,8 @@ def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr, vis)
                     media.start_path(med.med_tab, medium, scr.work[0], scr.mw)
                 while True:
                     t, prim, bu, bv, t_end, dim = _segment(geo, mat, emt, st, smp, cfg, scr, (ox, oy, oz),
-                                                           (dx, dy, dz), t_lo, medium, depth, dim, prev_delta, prev_pdf,
-                                                           vis, rc)
+                                                           (dx, dy, dz), t_lo, medium, depth, dim,
+                                                           (prev_delta, prev_pdf), vis, rc)
                     if med is not None and medium >= 0:
                         if t_end < t:  # a scattering event in the medium
                             alive, ox, oy, oz, dx, dy, dz, prev_pdf, depth, dim = _medium_scatter(
@@ -1301,9 +1303,6 @@ def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr, vis)
                             t_lo = 0.0
                             continue
                         media.segment(medium, scr.mw, beta, t - t_lo, t_end < t)  # False here, not as a literal
-                    if vis is not None and prim >= 0 and (vis.tri_vis[prim] & (1 << rc[0])) != 0:
-                        t_lo = t + eps  # hidden from rays of this class: go straight on
-                        continue
                     if prim < 0:
                         if depth == 0 and (st.film_transparent != 0 or st.sensor_mat >= 0):
                             transp = 1.0
@@ -1347,7 +1346,7 @@ def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr, vis)
                         alb_done = True
                         axyz = _albedo(mat, txr, m, tex_base, (cr, cg, cb), mix_w, axyz)
                     if do_nee and (flags_m & (BSDF_DIFFUSE | BSDF_GLOSSY)) != 0:
-                        _surface_nee(geo, mat, emt, med, st, smp, cfg, scr, dim, hit, shade, prim, model, pm, mix_w,
+                        _surface_nee(geo, mat, emt, med, st, smp, cfg, scr, dim, hit, shade, prim, (model, pm, mix_w),
                                      (medium, outer), vis)
                     dim += 3
                     flags, wix, wiy, wiz, pdf, q, dispersed, dim = _bsdf_step(mat, st, smp, cfg, scr, dim, shade[9:],

@@ -16,9 +16,10 @@ import pytest
 from spectral_gi.core import constants as C
 from spectral_gi.core.integrators.render import prepare, render
 from spectral_gi.core.scene import (
-    Camera, Light, Material, Mesh, RenderSettings, Scene, SceneError, SpectrumTable, World, load, save, validate)
+    Camera, Light, Material, Medium, Mesh, RenderSettings, Scene, SceneError, SpectrumTable, World, load, save,
+    validate)
 
-from helpers import flat_emission, flat_reflectance, look_at
+from helpers import box_mesh, flat_emission, flat_reflectance, look_at
 
 N = 20
 VIEW = 2.5
@@ -258,6 +259,7 @@ def test_emissive_mesh_linking():
     assert np.mean(base.luminance[CARD]) > 0.0 and np.all(d.luminance[CARD] == 0.0)
 
 
+@pytest.mark.slow  # compiles the illuminance kernel with a visibility record
 def test_illuminance_points_follow_shadow_flags():
     from spectral_gi.core.integrators.illuminance import illuminance
 
@@ -299,3 +301,60 @@ def test_flags_survive_save_load_and_are_validated(tmp_path):
     sc.meshes[0].visible_diffuse = 0
     with pytest.raises(SceneError, match=r"meshes\[0\].*visible_diffuse"):
         validate(sc)
+
+
+def test_record_tables():
+    """The record's classes and groups: who lights and who shadows whom, and which emitters
+    are estimated by NEE alone."""
+    from spectral_gi.core.geometry.visibility import HIDE_DIFFUSE, NEE_ONLY, NO_SHADOW
+
+    sc = scene()
+    e = sc.spectra.names.index("flat")
+    sc.lights.append(Light("lamp", C.LIGHT_POINT, (0, 0, 1), (0, 0, 0), (0, 0, 0), e, 0.0, intensity=10.0,
+                           receivers=[FLOOR_I], blockers=[CARD_I], visible_diffuse=False))
+    sc.lights[0].cast_shadow = False
+    sc.meshes[FLOOR_I].visible_shadow = False
+    prep = prepare(sc)
+    vis = prep.visibility
+    emt = prep.emitters
+    sun_e, lamp_e = emt.emit_light.tolist().index(0), emt.emit_light.tolist().index(1)
+    assert vis.emit_hide[sun_e] == NEE_ONLY | NO_SHADOW
+    assert vis.emit_hide[lamp_e] == NEE_ONLY | HIDE_DIFFUSE
+    tri_mesh = np.repeat([0, 1], 2)[prep.bvh.prims]
+    floor_t, card_t = int(np.flatnonzero(tri_mesh == 0)[0]), int(np.flatnonzero(tri_mesh == 1)[0])
+    lit = vis.rcv_ok[vis.tri_rcv, :][:, [vis.emit_rgrp[sun_e], vis.emit_rgrp[lamp_e]]]
+    assert lit[floor_t].tolist() == [1, 1] and lit[card_t].tolist() == [1, 0]
+    blocks = vis.blk_ok[vis.tri_blk, :][:, [vis.emit_sgrp[sun_e], vis.emit_sgrp[lamp_e]]]
+    assert blocks[floor_t].tolist() == [0, 0] and blocks[card_t].tolist() == [1, 1]
+    assert vis.masked == 1
+
+
+def test_volume_visibility():
+    """A box of scattering fog over a black background, lit by a sun and by an emissive card
+    above it that the camera does not see: the fog glows with both; a sun hidden from volume
+    scattering and a card hidden from it (rays scattered in the fog pass through it, and the
+    fog's NEE skips it) leave the fog black (no other light: exactly 0)."""
+    spectra = SpectrumTable.empty()
+    e = spectra.add("flat", flat_emission(), C.SPECTRUM_UNBOUNDED)
+    mats = [Material("fog", model=C.MAT_NULL, interior=0),
+            Material("lamp", emission=e, emission_luminance=500.0, two_sided=True)]
+    card = quad("lamp", -0.5, 0.5, -0.5, 0.5, 1.0, 1)
+    card.visible_camera = False
+    sun = Light("sun", C.LIGHT_SUN, (0, 0, 0), (0, 0, 0), (0, 0, 0), e, 0.0, direction=(1.0, 0.0, -1.0),
+                illuminance=E_SUN)
+    cam = Camera(look_at((0, 0, 2), (0, 0, 0), up=(0, 1, 0)), width=8, height=8, projection=C.CAM_ORTHOGRAPHIC,
+                 ortho_scale=0.8)
+
+    def fog(sun_volume=True, card_volume=True):
+        c = Mesh(card.name, card.positions, card.indices, card.material, visible_camera=False,
+                 visible_volume=card_volume)
+        li = Light(**{**sun.__dict__, "visible_volume": sun_volume})
+        return Scene(meshes=[box_mesh("fog", (-1, -1, -0.5), (1, 1, 0.5), 0), c], spectra=spectra, materials=mats,
+                     media=[Medium("fog", scattering_density=1.0)], lights=[li], camera=cam,
+                     settings=RenderSettings(spp=8, max_depth=2, seed=1))
+
+    assert np.mean(lum(fog()).luminance) > 1.0
+    sun_only = lum(fog(card_volume=False)).luminance
+    card_only = lum(fog(sun_volume=False)).luminance
+    assert np.mean(sun_only) > 1.0 and np.mean(card_only) > 1.0
+    assert np.all(lum(fog(sun_volume=False, card_volume=False)).luminance == 0.0)

@@ -90,3 +90,28 @@ def test_visibility_matches_cycles(ext, bpy, tmp_path, case):
     ratio = _compare(bpy, b.scene.spectral_gi, tmp_path)
     print(f"{case}: luminance ratio to Cycles {ratio:.4f}")
     assert ratio == pytest.approx(1.0, abs=0.03)
+
+
+def test_panels_show_the_flags(ext, bpy):
+    """With the engine the object panel shows the ray visibility (Cycles' own panel is
+    Cycles-only) and the light panel Cast Shadow; light linking is Blender's Object >
+    Shading panel, which the engine is compatible with."""
+    from unittest import mock
+
+    from helpers import recording_layout
+
+    b = ext.build
+    floor, card, sun = card_over_floor(b, bpy)
+    b.scene.render.engine = "SPECTRAL_GI"
+    drawn = []
+    panel = bpy.types.SPECTRALGI_PT_object
+    panel.draw(mock.MagicMock(layout=recording_layout(drawn)), mock.MagicMock(object=card))
+    assert {"visible_camera", "visible_diffuse", "visible_glossy", "visible_transmission", "visible_volume_scatter",
+            "visible_shadow", "is_holdout"} <= set(drawn)
+    drawn.clear()
+    panel.draw(mock.MagicMock(layout=recording_layout(drawn)), mock.MagicMock(object=sun))
+    assert {"visible_camera", "visible_diffuse", "visible_glossy"} <= set(drawn) and "visible_shadow" not in drawn
+    drawn.clear()
+    bpy.types.SPECTRALGI_PT_light.draw(mock.MagicMock(layout=recording_layout(drawn)), mock.MagicMock(light=sun.data))
+    assert "use_shadow" in drawn
+    assert "SPECTRAL_GI" in bpy.types.OBJECT_PT_shading.COMPAT_ENGINES

@@ -108,8 +108,8 @@ def ray_visibility(owners, pairs=RAY_VISIBILITY):
 
 
 def _link_members(collection):
-    """(included, excluded) names of the objects of a light-linking collection, its child
-    collections' objects taking the child's link state (the nearer entry wins)."""
+    """(included, excluded) names of the objects of a light-linking collection: its objects by
+    their link state, and the objects anywhere inside a child collection by that child's."""
     incl, excl = set(), set()
 
     def walk(coll, state, seen):

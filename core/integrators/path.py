@@ -1226,7 +1226,7 @@ def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr, vis)
     core/media/record.py, txr core/textures/record.py, camr core/camera/record.py, st
     core/integrators/settings.py, scr ``Scratch``, vis core/geometry/visibility.py; med, txr,
     vis are None for a scene without media or null surfaces, image textures, visibility flags:
-    numba prunes the branches on them at compile time (``render.kernel_records``).
+    numba prunes the branches on them at compile time (``render.kernel_records``, ``prepare``).
 
     A serial kernel that releases the GIL: the renderer runs blocks of rows on a pool of
     Python threads (compiling a prange kernel takes four times as long, and numba's

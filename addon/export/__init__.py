@@ -94,25 +94,61 @@ class MeshCache:
             del self.local[k]
 
 
-RAY_VISIBILITY = (("visible_diffuse", "diffuse"), ("visible_glossy", "glossy"),
-                  ("visible_transmission", "transmission"), ("visible_volume_scatter", "volume scatter"),
-                  ("visible_shadow", "shadow"))
+# Blender's object ray visibility → the core's Mesh / Light flags (a light's camera visibility is Light.visible)
+RAY_VISIBILITY = (("visible_camera", "visible_camera"), ("visible_diffuse", "visible_diffuse"),
+                  ("visible_glossy", "visible_glossy"), ("visible_transmission", "visible_transmission"),
+                  ("visible_volume_scatter", "visible_volume"), ("visible_shadow", "visible_shadow"))
+LIGHT_VISIBILITY = RAY_VISIBILITY[1:5]
+
+
+def ray_visibility(owners, pairs=RAY_VISIBILITY):
+    """{core flag: bool} of Blender's ray visibility: off when it is off on the object or on its
+    instancer (as Cycles reads instances)."""
+    return {core: all(bool(getattr(o, prop, True)) for o in owners) for prop, core in pairs}
+
+
+def _link_members(collection):
+    """(included, excluded) names of the objects of a light-linking collection: its objects by
+    their link state, and the objects anywhere inside a child collection by that child's."""
+    incl, excl = set(), set()
+
+    def walk(coll, state, seen):
+        if coll.name in seen:
+            return
+        seen = seen | {coll.name}
+        for ob, entry in zip(coll.objects, getattr(coll, "collection_objects", ())):
+            st = state or entry.light_linking.link_state
+            (incl if st == "INCLUDE" else excl).add(ob.original.name if ob.original else ob.name)
+        for child, entry in zip(coll.children, getattr(coll, "collection_children", ())):
+            walk(child, state or entry.light_linking.link_state, seen)
+
+    walk(collection, None, set())
+    return incl, excl
+
+
+def link_lists(emitter, mesh_owners):
+    """(receivers, blockers) of an emitter object: the indices of the exported meshes its
+    light-linking and shadow-linking collections let it light and be shadowed by, or None
+    (no collection: all). As Blender's light linking: an object marked Include is linked, one
+    marked Exclude is not, and an object not in the collection is linked unless the
+    collection includes some object."""
+    link = getattr(emitter, "light_linking", None)
+    out = []
+    for key in ("receiver_collection", "blocker_collection"):
+        coll = getattr(link, key, None) if link is not None else None
+        if coll is None:
+            out.append(None)
+            continue
+        incl, excl = _link_members(coll)
+        out.append([j for j, names in enumerate(mesh_owners)
+                    if (not incl or names & incl) and not names & excl])
+    return tuple(out)
 
 
 def object_features(ctx, obj, name, light=False):
-    """Record the Cycles object settings the renderer does not follow: ray visibility flags
-    (a light's camera visibility is followed), shadow catcher (of geometry) and light linking."""
-    off = [label for prop, label in RAY_VISIBILITY if not getattr(obj, prop, True)]
-    if not light and not getattr(obj, "visible_camera", True):
-        off.insert(0, "camera")
-    if off:
-        ctx.skip("object ray visibility (rendered visible to every ray)", f"{name} ({', '.join(off)} off)")
+    """Record the Cycles object settings the renderer does not follow: shadow catcher (of geometry)."""
     if not light and getattr(obj, "is_shadow_catcher", False):
         ctx.skip("shadow catchers (rendered as ordinary surfaces)", name)
-    link = getattr(obj, "light_linking", None)
-    if link is not None and (getattr(link, "receiver_collection", None) is not None
-                             or getattr(link, "blocker_collection", None) is not None):
-        ctx.skip("light and shadow linking (every light lights everything)", name)
 
 
 def export_scene(depsgraph, scene=None, should_cancel=None, mesh_cache=None, camera=None):
@@ -135,6 +171,7 @@ def export_scene(depsgraph, scene=None, should_cancel=None, mesh_cache=None, cam
     if camera is None:
         camera = export_camera(ctx, scene, depsgraph)
     meshes, lights = [], []
+    mesh_owners, emitters = [], []  # the names of each mesh's objects; (core record, linking object)
     cache = {}
     surfaced, unsurfaced = set(), []
     hair = renders_hair(depsgraph)
@@ -175,7 +212,11 @@ def export_scene(depsgraph, scene=None, should_cancel=None, mesh_cache=None, cam
                 owners = (obj, inst.parent) if inst.is_instance and inst.parent is not None else (obj,)
                 mesh.sensor = any(bool(getattr(o, "spectral_gi_sensor", False)) for o in owners)
                 mesh.holdout = any(bool(getattr(o, "is_holdout", False)) for o in owners)
+                for key, value in ray_visibility(owners).items():
+                    setattr(mesh, key, value)
                 meshes.append(mesh)
+                mesh_owners.append({o.original.name if o.original else o.name for o in owners})
+                emitters.append((mesh, obj.original))
                 surfaced.add(obj.original.name)
                 for mat in slot_materials(obj):
                     if mat is not None:
@@ -184,7 +225,11 @@ def export_scene(depsgraph, scene=None, should_cancel=None, mesh_cache=None, cam
             object_features(ctx, obj.original, name, light=True)
             light = export_light(ctx, obj, matrix, name)
             if light is not None:
+                for key, value in ray_visibility((obj,), LIGHT_VISIBILITY).items():
+                    setattr(light, key, value)
+                light.cast_shadow = bool(getattr(obj.data, "use_shadow", True))
                 lights.append(light)
+                emitters.append((light, obj.original))
         elif kind == "CURVES":
             if hair:
                 object_features(ctx, obj.original, name)
@@ -194,6 +239,8 @@ def export_scene(depsgraph, scene=None, should_cancel=None, mesh_cache=None, cam
                     meshes.append(mesh)
         elif kind not in HELPER_TYPES:
             ctx.skip(f"{kind.lower()} objects", obj.name)
+    for rec, ob in emitters:
+        rec.receivers, rec.blockers = link_lists(ob, mesh_owners)
     for obj_name in unsurfaced:
         if obj_name not in surfaced:
             ctx.skip("objects with no surface", obj_name)

@@ -45,6 +45,8 @@ class SPECTRALGI_PT_light(bpy.types.Panel):
         else:
             col.prop(s, "value", text=f"Value ({UNIT_SYMBOLS.get(s.unit, '')})")
 
+        col.prop(light, "use_shadow", text="Cast Shadow")
+
         # colour / spectrum
         col.separator()
         col.prop(s, "spectrum")

@@ -195,15 +195,24 @@ class SPECTRALGI_PT_object(bpy.types.Panel):
     def poll(cls, context):
         obj = context.object
         return (context.engine in cls.COMPAT_ENGINES and obj is not None and obj.type in
-                ("MESH", "CURVE", "SURFACE", "FONT", "META") and hasattr(obj, "spectral_gi_sensor"))
+                ("MESH", "CURVE", "SURFACE", "FONT", "META", "LIGHT") and hasattr(obj, "spectral_gi_sensor"))
 
     def draw(self, context):
         obj = context.object
         col = self.layout.column()
         col.use_property_split = True
         col.use_property_decorate = False
-        col.prop(obj, "spectral_gi_sensor")
-        col.prop(obj, "is_holdout")
+        if obj.type != "LIGHT":
+            col.prop(obj, "spectral_gi_sensor")
+            col.prop(obj, "is_holdout")
+        # Blender's ray visibility (Cycles' panel is shown for Cycles only); light linking is
+        # under Object > Shading
+        col.prop(obj, "visible_camera", text="Ray Visibility Camera")
+        for prop, label in (("visible_diffuse", "Diffuse"), ("visible_glossy", "Glossy"),
+                            ("visible_transmission", "Transmission"), ("visible_volume_scatter", "Volume Scatter")):
+            col.prop(obj, prop, text=label)
+        if obj.type != "LIGHT":
+            col.prop(obj, "visible_shadow", text="Shadow")
 
 
 class SPECTRALGI_PT_passes(bpy.types.Panel):

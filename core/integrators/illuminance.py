@@ -83,10 +83,11 @@ from ..media import kernel as media
 from ..sampling.qmc import pixel_seed
 from ..sampling.rng import path_key
 from ..scene import SceneError
+from ..geometry.visibility import NEE_ONLY, NO_SHADOW, RAY_CAMERA, RAY_DIFFUSE, RAY_VOLUME
 from .path import (
     EPS_REL, INV_PI, NW, _bsdf_step, _emission, _emitter_sample, _hit_point, _medium_scatter, _next_ray,
-    _pick_component, _segment, _shading_frame, _shading_normal, _shadow_tmax, _surface_material,
-    _surface_nee, _world_hit, lam_cell, power_heuristic, rnd_f, sample_visible)
+    _occluded_linked, _pick_component, _ray_class, _segment, _shading_frame, _shading_normal, _shadow_tmax,
+    _surface_material, _surface_nee, _vis_hit, _world_hit, lam_cell, power_heuristic, rnd_f, sample_visible)
 
 # measures (the kernel's ``mode``): integer tags, never reordered
 MODE_ILLUMINANCE = 0  # on the plane with the given normal
@@ -144,11 +145,13 @@ def _normal(st, smp, mode, q):
 
 
 @inline
-def _point_nee(geo, mat, emt, med, st, smp, cfg, scr, p, n):
+def _point_nee(geo, mat, emt, med, st, smp, cfg, scr, p, n, vis):
     """Next-event estimation at the point p (unit normal n): one emitter (dimension 5), a
     point or direction on it (3, 4), a shadow ray from p moved eps along the sample's
     direction; the light's L cos θ / pdf, MIS weighted against cosine sampling (delta
-    lights: weight 1), added to L."""
+    lights: weight 1), added to L. vis: the visibility record (None: none): the point is a
+    diffuse receiver of no mesh (no light linking), and the shadow ray follows the shadow
+    flags (shadow visibility, shadow linking, lights that cast no shadow)."""
     do_nee = cfg[0]
     eps = cfg[1]
     has_media = cfg[2]
@@ -169,14 +172,29 @@ def _point_nee(geo, mat, emt, med, st, smp, cfg, scr, p, n):
     cos_n = nx * wx + ny * wy + nz * wz
     if not (fac > 0.0 and lpdf > 0.0 and cos_n > 0.0):
         return
+    no_shadow = False
+    if vis is not None:
+        if not _vis_hit(vis, ei, (np.int64(RAY_DIFFUSE), np.int64(-1)), True):
+            return
+        h = vis.emit_hide[ei]
+        no_shadow = (h & NO_SHADOW) != 0
+        if (h & NEE_ONLY) != 0 and lpdf != np.inf:
+            fac = fac / lpdf
+            lpdf = np.inf
     ox = px + eps * wx
     oy = py + eps * wy
     oz = pz + eps * wz
     tmax = _shadow_tmax(dist, eps, emt.emit_tri[ei], ox, oy, oz, wx, wy, wz, geo.v0, geo.e1, geo.e2)
     for i in range(NW):
         fv[i] = 1.0
-    if not media.unoccluded(has_media, (ox, oy, oz), (wx, wy, wz), tmax, (np.int64(-1), np.int64(-1)),
-                            np.int64(-1), 1.0, 1.0, work[0], scr.mw, fv, geo, mat.model, med, eps, scr.stack):
+    if no_shadow:
+        pass
+    elif vis is not None and vis.masked != 0 and not has_media:
+        if _occluded_linked(vis, vis.emit_sgrp[ei], (ox, oy, oz), (wx, wy, wz), tmax, eps, geo.nodes, geo.tris,
+                            scr.stack):
+            return
+    elif not media.unoccluded(has_media, (ox, oy, oz), (wx, wy, wz), tmax, (np.int64(-1), np.int64(-1)),
+                              np.int64(-1), 1.0, 1.0, work[0], scr.mw, fv, geo, mat.model, med, eps, scr.stack):
         return
     pe = emt.emit_prob[ei]
     if lpdf == np.inf:  # delta light: NEE only
@@ -218,14 +236,15 @@ def _point_roulette(st, smp, beta, q, depth, dim, rr):
 
 
 @inline
-def _trace_on(geo, mat, emt, med, txr, st, smp, cfg, scr, ray, state, rr):
+def _trace_on(geo, mat, emt, med, txr, st, smp, cfg, scr, ray, state, rr, vis, rc):
     """The path kernel's loop from the ray ``ray`` = (ox, oy, oz, dx, dy, dz) in clear air,
     with state = (depth, dim, prev_delta, prev_pdf) and rr the roulette's (β₀, t, γ)
     (``_point_roulette``): segments, media, the world, surface hits
     (emission, mixes, materials and textures, NEE, BSDF sampling, the next ray, Russian
     roulette), adding to the scratch's L. The same fragments in the same order as
     render_rows, without the camera's AOVs, holdouts and sensors; analytic lights are seen
-    by the first segment too (they are hidden from cameras only)."""
+    by the first segment too (they are hidden from cameras only). vis, rc: the visibility
+    record (None: none) and the first ray's class and receiving triangle."""
     do_nee = cfg[0]
     eps = cfg[1]
     has_media = cfg[2]
@@ -240,14 +259,15 @@ def _trace_on(geo, mat, emt, med, txr, st, smp, cfg, scr, ray, state, rr):
         media.start_path(med.med_tab, medium, scr.work[0], scr.mw)
     while True:
         t, prim, bu, bv, t_end, dim = _segment(geo, mat, emt, st, smp, cfg, scr, (ox, oy, oz), (dx, dy, dz), t_lo,
-                                               medium, max(depth, 1), dim, prev_delta, prev_pdf)
+                                               medium, max(depth, 1), dim, (prev_delta, prev_pdf), vis, rc)
         if medium >= 0:
             if t_end < t:
                 alive, ox, oy, oz, dx, dy, dz, prev_pdf, depth, dim = _medium_scatter(
                     geo, mat, emt, med, st, smp, cfg, scr, (ox, oy, oz), (dx, dy, dz), (t, t_end, t_lo),
-                    (medium, outer), depth, dim)
+                    (medium, outer), depth, dim, vis)
                 if not alive:
                     break
+                rc = (np.int64(RAY_VOLUME), np.int64(-1))
                 prev_delta = False
                 t_lo = 0.0
                 continue
@@ -267,7 +287,7 @@ def _trace_on(geo, mat, emt, med, txr, st, smp, cfg, scr, ray, state, rr):
         sn = _shading_normal(geo, prim, bu, bv, (nx, ny, nz), (dx, dy, dz), cos_i)
         m = geo.tri_mat[prim]
         hit = (px, py, pz, nx, ny, nz, area, cos_i)
-        _emission(geo, mat, emt, st, cfg, scr, (ox, oy, oz), hit, t, prim, m, prev_delta, prev_pdf)
+        _emission(geo, mat, emt, st, cfg, scr, (ox, oy, oz), hit, t, prim, m, prev_delta, prev_pdf, vis, rc)
         if depth > st.max_depth:
             break
         m, mix_w, dim = _pick_component(mat, st, smp, m, dim)
@@ -282,8 +302,8 @@ def _trace_on(geo, mat, emt, med, txr, st, smp, cfg, scr, ray, state, rr):
         shade = _shading_frame((snx, sny, snz), (dx, dy, dz))
         flags_m = bsdf_flags(model, pm)
         if do_nee and (flags_m & (BSDF_DIFFUSE | BSDF_GLOSSY)) != 0:
-            _surface_nee(geo, mat, emt, med, st, smp, cfg, scr, dim, hit, shade, prim, model, pm, mix_w,
-                         (medium, outer))
+            _surface_nee(geo, mat, emt, med, st, smp, cfg, scr, dim, hit, shade, prim, (model, pm, mix_w),
+                         (medium, outer), vis)
         dim += 3
         flags, wix, wiy, wiz, pdf, q, dispersed, dim = _bsdf_step(mat, st, smp, cfg, scr, dim, shade[9:], model, pm,
                                                                   mix_w, dispersed)
@@ -291,6 +311,8 @@ def _trace_on(geo, mat, emt, med, txr, st, smp, cfg, scr, ray, state, rr):
             break
         prev_delta = (flags & BSDF_DELTA) != 0
         prev_pdf = pdf
+        if vis is not None:
+            rc = (np.int64(_ray_class(flags, wiz, shade[11])), np.int64(prim))
         ok, ox, oy, oz, dx, dy, dz, medium, outer = _next_ray(geo, med, cfg, scr, hit, shade, (wix, wiy, wiz), prim,
                                                               (medium, outer))
         if not ok or not math.isfinite(dx + dy + dz):  # a NaN direction ends the path
@@ -318,11 +340,13 @@ def _photometric(scr, vcmf):
 
 
 @inline
-def _point_sample(geo, mat, emt, med, txr, st, smp, cfg, scr, pq, mode, window):
+def _point_sample(geo, mat, emt, med, txr, st, smp, cfg, scr, pq, mode, window, vis):
     """One sample of the measure ``mode`` at p, pq = (p, q) with q its unit normal, viewing
     direction or facing direction: its L (radiance, or for the illuminance measures π L
     along a cosine-sampled direction plus the point's NEE) in the scratch. window: the
-    roulette's (t, γ) (``_point_roulette``)."""
+    roulette's (t, γ) (``_point_roulette``); vis: the visibility record (None: none), under
+    which a luminance path is a camera ray and the illuminance measures' point a diffuse
+    receiver of no mesh."""
     eps = cfg[1]
     key, pseed, s = smp
     px, py, pz, qx, qy, qz = pq
@@ -339,7 +363,7 @@ def _point_sample(geo, mat, emt, med, txr, st, smp, cfg, scr, pq, mode, window):
         b0 = math.pi
         _wavelengths(st, smp, scr, b0)  # β = cos θ / (cos θ / π)
         nx, ny, nz = _normal(st, smp, mode, (qx, qy, qz))
-        _point_nee(geo, mat, emt, med, st, smp, cfg, scr, (px, py, pz), (nx, ny, nz))
+        _point_nee(geo, mat, emt, med, st, smp, cfg, scr, (px, py, pz), (nx, ny, nz), vis)
         x, y, z, fl = lambert_sample_dir(rnd_f(st.sampler, key, pseed, s, np.int64(1), st.n_total),
                                          rnd_f(st.sampler, key, pseed, s, np.int64(2), st.n_total))
         go = fl != 0
@@ -352,17 +376,19 @@ def _point_sample(geo, mat, emt, med, txr, st, smp, cfg, scr, pq, mode, window):
         prev_pdf = z * INV_PI
     if go:
         _trace_on(geo, mat, emt, med, txr, st, smp, cfg, scr, (px + eps * dx, py + eps * dy, pz + eps * dz, dx, dy, dz),
-                  (depth, dim, luminance, prev_pdf), (b0, window[0], window[1]))
+                  (depth, dim, luminance, prev_pdf), (b0, window[0], window[1]), vis,
+                  (np.int64(RAY_CAMERA if luminance else RAY_DIFFUSE), np.int64(-1)))
 
 
 @kernel(refcount=False)
-def point_samples(jobs, j0, j1, pts, mode, vcmf, vals, geo, mat, emt, med, txr, st, scr, window):
+def point_samples(jobs, j0, j1, pts, mode, vcmf, vals, geo, mat, emt, med, txr, st, scr, window, vis):
     """Samples of jobs j0 .. j1-1, each job a row (point, s0, s1, offset) of ``jobs``: the
     measure ``mode`` (MODE_*) of samples s0 .. s1-1 at point ``point`` (pts: float64 (N, 6),
     position and unit normal or direction) into vals[offset + s - s0] (lux or cd/m²).
     vcmf: float32 (N_LAMBDA,) V(λ); geo, mat, emt, med, txr, st: the path kernel's records
     (st.seed, st.max_depth set by the caller); scr: a path.Scratch; window: (t, γ) of the roulette
-    (``_point_roulette``).
+    (``_point_roulette``); vis: the visibility record (core/geometry/visibility.py), None when
+    the scene has no visibility flags nor links.
 
     A serial kernel that releases the GIL (the caller runs slices of jobs on a pool of
     threads); each value is a pure function of (seed, point, sample), so the values do not
@@ -378,7 +404,7 @@ def point_samples(jobs, j0, j1, pts, mode, vcmf, vals, geo, mat, emt, med, txr, 
         pq = (pts[p, 0], pts[p, 1], pts[p, 2], pts[p, 3], pts[p, 4], pts[p, 5])
         for s in range(s0, jobs[j, 2]):
             smp = (path_key(st.seed, p, s), pseed, s)
-            _point_sample(geo, mat, emt, med, txr, st, smp, cfg, scr, pq, mode, window)
+            _point_sample(geo, mat, emt, med, txr, st, smp, cfg, scr, pq, mode, window, vis)
             vals[off + s - s0] = _photometric(scr, vcmf)
 
 
@@ -487,7 +513,8 @@ def _run_batch(prep, st, pts, mode, vcmf, idx, span, pool, n_threads, chunk):
 
     def run(j0, j1):
         point_samples(jobs, int(j0), int(j1), pts, int(mode), vcmf, vals, prep.geometry, prep.materials,
-                      prep.emitters, prep.media, prep.textures, st, scratch(n_par), (RR_FLOOR, RR_DECAY))
+                      prep.emitters, prep.media, prep.textures, st, scratch(n_par), (RR_FLOOR, RR_DECAY),
+                      prep.visibility)
 
     if pool is None or idx.size * nb <= SERIAL_SAMPLES or tasks == 1:  # too little work to hand to threads
         run(0, jobs.shape[0])

@@ -30,6 +30,9 @@ from ..bsdfs.phong import lambert_sample_dir
 from ..media import kernel as media
 from ..textures import kernel as tex
 from ..geometry.bvh import STACK_SIZE, trace_closest, trace_occluded, triangle_normal, uidx
+from ..geometry.visibility import (
+    HIDE_DIFFUSE, HIDE_GLOSSY, HIDE_TRANSMISSION, HIDE_VOLUME, NEE_ONLY, NO_SHADOW, RAY_CAMERA, RAY_DIFFUSE,
+    RAY_GLOSSY, RAY_TRANSMISSION, RAY_VOLUME)
 from ..camera.kernel import CAM_LENS_R, camera_ray
 from ..lights.kernel import env_lookup, env_sample, hit_light, sample_light, sun_hit
 from ..sampling.qmc import pixel_seed, qmc_sample
@@ -443,7 +446,7 @@ def _lookup_material(m, lc, lf, spec, ior_tab, mat_ra, mat_rb, mat_eta, mat_kapp
 
 
 @function
-def _light_hits(sensing, depth, blocked, t_end, t_lo, o, d, full_weight, prev_pdf, medium, scr, spec, emt):
+def _light_hits(sensing, depth, blocked, t_end, t_lo, o, d, full_weight, prev_pdf, medium, scr, spec, emt, vis, rc):
     """Add the emission of the analytic lights the ray (o, d) meets before t_end to L
     (they are hit for their emission and never occlude, as in Cycles). ``sensing``: a
     camera ray of the measuring pass (lights unseen); ``blocked``: the ray hit a surface
@@ -451,7 +454,8 @@ def _light_hits(sensing, depth, blocked, t_end, t_lo, o, d, full_weight, prev_pd
     previous vertex was a delta event or NEE is off (weight 1, else the power heuristic
     against the light's NEE pdf; the analytic lights are the last entries of the emitter
     table). o, d: the ray's origin and direction; scr: the path's ``Scratch``; spec: the
-    spectrum table; emt: the emitters record."""
+    spectrum table; emt: the emitters record; vis: the visibility record (None: none) and rc
+    = (ray class, receiving triangle) of the ray (``_vis_hit``)."""
     ox, oy, oz = o
     dx, dy, dz = d
     mw = scr.mw
@@ -471,6 +475,8 @@ def _light_hits(sensing, depth, blocked, t_end, t_lo, o, d, full_weight, prev_pd
     n_emit = emit_prob.shape[0]
     for li in range(n_lights):
         if depth == 0 and (light_visible[li] == 0 or sensing):
+            continue
+        if vis is not None and n_emit > 0 and not _vis_hit(vis, n_emit - n_lights + li, rc, full_weight):
             continue
         lk = light_kind[li]
         if lk == C.LIGHT_SUN:
@@ -492,6 +498,83 @@ def _light_hits(sensing, depth, blocked, t_end, t_lo, o, d, full_weight, prev_pd
         for i in range(NW):
             rad[i] += beta[i] * w * fac * light_scale[li] * at(spec, light_spec[li], lc[i], lf[i]) \
                 * mw[media.MW_TR, i]
+
+
+@inline
+def _vis_hit(vis, e, rc, full_weight):
+    """Whether a ray of class rc[0] leaving triangle rc[1] (-1: none, the camera or a medium)
+    counts emitter ``e`` it meets (core/geometry/visibility.py): not when the emitter is
+    hidden from that class, nor a receiver the emitter is not linked to, nor (unless
+    ``full_weight``: after a delta event, or without NEE) an emitter of ``NEE_ONLY``."""
+    rclass, rcv = rc
+    h = vis.emit_hide[e]
+    if rclass != RAY_CAMERA and (h & (1 << rclass)) != 0:
+        return False
+    if (h & NEE_ONLY) != 0 and not full_weight:
+        return False
+    if rcv >= 0 and vis.rcv_ok[vis.tri_rcv[rcv], vis.emit_rgrp[e]] == 0:
+        return False
+    return True
+
+
+@inline
+def _vis_nee(vis, e, prim, model, pm, woz, cos_n, fac, lpdf):
+    """Next-event estimation of emitter ``e`` at triangle ``prim`` under the visibility
+    record: fac 0 when the emitter does not light the triangle (light linking) or is hidden
+    from the scattering towards it (transmission when the light lies on the other side of
+    the surface from wo, else the material's kind: diffuse, glossy, or both, which is hidden
+    only when both are); an ``NEE_ONLY`` emitter's sample as a delta light's (fac / pdf, pdf
+    ∞: weight 1, no MIS). Returns (fac, lpdf, no shadow test)."""
+    h = vis.emit_hide[e]
+    if vis.rcv_ok[vis.tri_rcv[prim], vis.emit_rgrp[e]] == 0:
+        return 0.0, lpdf, False
+    if (h & (HIDE_DIFFUSE | HIDE_GLOSSY | HIDE_TRANSMISSION)) != 0:
+        if woz * cos_n < 0.0:
+            hid = (h & HIDE_TRANSMISSION) != 0
+        else:
+            fl = bsdf_flags(model, pm)
+            dif = (fl & BSDF_DIFFUSE) != 0
+            glo = (fl & BSDF_GLOSSY) != 0
+            if dif and glo:
+                hid = (h & HIDE_DIFFUSE) != 0 and (h & HIDE_GLOSSY) != 0
+            elif dif:
+                hid = (h & HIDE_DIFFUSE) != 0
+            else:
+                hid = (h & HIDE_GLOSSY) != 0
+        if hid:
+            return 0.0, lpdf, False
+    if (h & NEE_ONLY) != 0 and lpdf != np.inf and lpdf > 0.0:
+        fac = fac / lpdf
+        lpdf = np.inf
+    return fac, lpdf, (h & NO_SHADOW) != 0
+
+
+@function
+def _occluded_linked(vis, sgrp, o, d, tmax, eps, nodes, tris, stack):
+    """Whether something that casts the shadows of shadow group ``sgrp`` lies on the ray (o, d)
+    before tmax: the closest hits in turn, passing triangles of a blocker class that does
+    not occlude the group (shadow visibility off, or not in the emitter's blockers)."""
+    ox, oy, oz = o
+    dx, dy, dz = d
+    t_lo = 0.0
+    while True:
+        t, prim, _bu, _bv = trace_closest(ox, oy, oz, dx, dy, dz, t_lo, tmax, nodes, tris, stack)
+        if prim < 0 or not t < tmax:
+            return False
+        if vis.blk_ok[vis.tri_blk[prim], sgrp] != 0:
+            return True
+        t_lo = t + eps
+
+
+@inline
+def _ray_class(flags, wiz, woz):
+    """The class of a bounce (core/geometry/visibility.py) from the sampled lobe's flags and
+    the sides of wi and wo: transmission, diffuse, else glossy."""
+    if wiz * woz < 0.0:
+        return RAY_TRANSMISSION
+    if (flags & BSDF_DIFFUSE) != 0:
+        return RAY_DIFFUSE
+    return RAY_GLOSSY
 
 
 @function
@@ -683,23 +766,30 @@ def _camera_sample(camr, st, smp, x, y, width, height, thin_lens, scr):
 
 
 @fragment
-def _segment(geo, mat, emt, st, smp, cfg, scr, o, d, t_lo, medium, depth, dim, prev_delta, prev_pdf):
+def _segment(geo, mat, emt, st, smp, cfg, scr, o, d, t_lo, medium, depth, dim, prev, vis, rc):
     """The ray (o, d) from t_lo: its closest hit (t, prim, bu, bv), in a medium the free-flight
     distance (t_end < t: a scattering event comes first; one dimension drawn), and the
     emission of the analytic lights it meets before t_end added to L (hit for their emission,
-    never occluders, as in Cycles). Returns (t, prim, bu, bv, t_end, dim)."""
+    never occluders, as in Cycles; prev = (the previous event was a delta one, its pdf); vis, rc:
+    the visibility record and the ray's class and receiving triangle, ``_vis_hit``: triangles
+    hidden from the ray's class are passed). Returns (t, prim, bu, bv, t_end, dim)."""
     do_nee = cfg[0]
     ox, oy, oz = o
     dx, dy, dz = d
     key, pseed, s = smp
+    prev_delta, prev_pdf = prev
     t, prim, bu, bv = trace_closest(ox, oy, oz, dx, dy, dz, t_lo, np.inf, geo.nodes, geo.tris, scr.stack)
+    if vis is not None:
+        while prim >= 0 and (vis.tri_vis[prim] & (1 << rc[0])) != 0:  # hidden from rays of this class
+            t, prim, bu, bv = trace_closest(ox, oy, oz, dx, dy, dz, t + cfg[1], np.inf, geo.nodes, geo.tris,
+                                            scr.stack)
     t_end = t
     if medium >= 0:
         t_end = min(t, t_lo + media.free_flight(medium, scr.mw, rnd_f(st.sampler, key, pseed, s, dim, st.n_total)))
         dim += 1
     if emt.light_kind.shape[0] > 0:
         _light_hits(depth == 0 and st.sensor_mat >= 0, np.int64(depth), prim >= 0 or t_end < t, t_end, t_lo, o, d,
-                    prev_delta or not do_nee, prev_pdf, medium, scr, mat.spec, emt)
+                    prev_delta or not do_nee, prev_pdf, medium, scr, mat.spec, emt, vis, rc)
     return t, prim, bu, bv, t_end, dim
 
 
@@ -727,12 +817,13 @@ def _roulette(st, smp, beta, q, depth, dim):
 
 
 @function
-def _medium_scatter(geo, mat, emt, med, st, smp, cfg, scr, o, d, seg, vol, depth, dim):
+def _medium_scatter(geo, mat, emt, med, st, smp, cfg, scr, o, d, seg, vol, depth, dim, vis):
     """A scattering event in the medium ``vol`` = (medium, outer) at t_end along (o, d)
     (seg = (t, t_end, t_lo), t_end < t): the transmittance and albedo of the flight, next-event
     estimation towards one emitter (three dimensions), a Henyey–Greenstein direction (two)
-    and Russian roulette. Returns (alive, new origin, new direction, pdf of the direction,
-    depth, dim); alive False: the path ends here."""
+    and Russian roulette (vis: the visibility record, None: none; an emitter hidden from
+    volume scattering is not sampled). Returns (alive, new origin, new direction, pdf of the
+    direction, depth, dim); alive False: the path ends here."""
     do_nee = cfg[0]
     eps = cfg[1]
     ox, oy, oz = o
@@ -761,6 +852,13 @@ def _medium_scatter(geo, mat, emt, med, st, smp, cfg, scr, o, d, seg, vol, depth
         wx, wy, wz, dist, lpdf, fac = _emitter_sample(
             ei, rnd_f(sampler, key, pseed, s, dim + 1, n_total),
             rnd_f(sampler, key, pseed, s, dim + 2, n_total), px, py, pz, lam, le, geo, mat, emt, st)
+        if vis is not None:
+            h = vis.emit_hide[ei]
+            if (h & HIDE_VOLUME) != 0:
+                fac = 0.0
+            elif (h & NEE_ONLY) != 0 and lpdf != np.inf and lpdf > 0.0:
+                fac = fac / lpdf
+                lpdf = np.inf
         media.nee((px, py, pz), (dx, dy, dz), g, (wx, wy, wz, dist, lpdf, fac, emt.emit_prob[ei]), le, vol, lam,
                   beta, rad, mw, geo, mat.model, med, eps, scr.stack)
     dim += 3
@@ -853,12 +951,13 @@ def _first_hit(fr, geo, st, x, y, prim, m, sn, d, t):
 
 
 @fragment
-def _emission(geo, mat, emt, st, cfg, scr, o, hit, t, prim, m, prev_delta, prev_pdf):
+def _emission(geo, mat, emt, st, cfg, scr, o, hit, t, prim, m, prev_delta, prev_pdf, vis, rc):
     """Material m's emitted radiance at the hit (hit = (px, py, pz, nx, ny, nz, area, cos_i),
     t along the ray from o) added to L: from both sides (Blender's Emission shader) or the
     front side only. Unless the previous vertex was a delta event or NEE is off, weighted by
     the power heuristic against the NEE's pdf of this direction, under the NEE's rule for
-    (origin, triangle): 1/Ω when it samples the solid angle, else by area."""
+    (origin, triangle): 1/Ω when it samples the solid angle, else by area. vis, rc: the
+    visibility record (None: none) and the ray's class and receiving triangle (``_vis_hit``)."""
     do_nee = cfg[0]
     ox, oy, oz = o
     px, py, pz, nx, ny, nz, area, cos_i = hit
@@ -870,7 +969,10 @@ def _emission(geo, mat, emt, st, cfg, scr, o, hit, t, prim, m, prev_delta, prev_
     rad = scr.work[3]
     lf = scr.work[10]
     lc = scr.lc
-    if mat_emis[m] >= 0 and (cos_i > 0.0 or (cos_i < 0.0 and mat.emis_two[m] != 0)):
+    seen = mat_emis[m] >= 0 and (cos_i > 0.0 or (cos_i < 0.0 and mat.emis_two[m] != 0))
+    if vis is not None and seen and geo.tri_emitter[prim] >= 0:
+        seen = _vis_hit(vis, geo.tri_emitter[prim], rc, prev_delta or not do_nee)
+    if seen:
         w = 1.0
         if not prev_delta and do_nee:
             om = 0.0
@@ -980,16 +1082,18 @@ def _albedo(mat, txr, m, tex_base, rgb, mix_w, axyz):
 
 
 @fragment
-def _surface_nee(geo, mat, emt, med, st, smp, cfg, scr, dim, hit, shade, prim, model, pm, mix_w, vol):
+def _surface_nee(geo, mat, emt, med, st, smp, cfg, scr, dim, hit, shade, prim, bsdf, vol, vis):
     """Next-event estimation at a surface hit: one emitter picked in proportion to its power
-    (dimension dim), a point or direction on it (dim + 1, dim + 2), the BSDF (model, pm) at
-    the hit (hit = (px, py, pz, nx, ny, nz, area, cos_i); shade from ``_shading_frame``) and a
-    shadow ray through the media ``vol`` = (medium, outer); the light's contribution, MIS
-    weighted against BSDF sampling (delta lights: NEE only), added to L."""
+    (dimension dim), a point or direction on it (dim + 1, dim + 2), the BSDF bsdf = (model,
+    parameter row, mix weight) at the hit (hit = (px, py, pz, nx, ny, nz, area, cos_i); shade
+    from ``_shading_frame``) and a shadow ray through the media ``vol`` = (medium, outer); the light's contribution, MIS
+    weighted against BSDF sampling (delta lights: NEE only), added to L. vis: the visibility
+    record (None: none): light and shadow linking, hidden emitters, shadowless lights."""
     eps = cfg[1]
     has_media = cfg[2]
     px, py, pz, nx, ny, nz, area, cos_i = hit
     snx, sny, snz, tx, ty, tz, cx, cy, cz, wox, woy, woz = shade
+    model, pm, mix_w = bsdf
     key, pseed, s = smp
     sampler = st.sampler
     n_total = st.n_total
@@ -1018,6 +1122,9 @@ def _surface_nee(geo, mat, emt, med, st, smp, cfg, scr, dim, hit, shade, prim, m
     else:
         wx, wy, wz, dist, lpdf, fac = _emitter_sample(ei, ua, ub, px, py, pz, lam, le, geo, mat, emt, st)
     cos_n = snx * wx + sny * wy + snz * wz
+    no_shadow = False
+    if vis is not None:
+        fac, lpdf, no_shadow = _vis_nee(vis, ei, prim, model, pm, woz, cos_n, fac, lpdf)
     if fac > 0.0 and lpdf > 0.0 and cos_n * (nx * wx + ny * wy + nz * wz) > 0.0:
         wix = wx * tx + wy * ty + wz * tz
         wiy = wx * cx + wy * cy + wz * cz
@@ -1034,7 +1141,12 @@ def _surface_nee(geo, mat, emt, med, st, smp, cfg, scr, dim, hit, shade, prim, m
             soy = py + side * eps * ny
             soz = pz + side * eps * nz
             tmax_s = _shadow_tmax(dist, eps, emit_tri[ei], sox, soy, soz, wx, wy, wz, v0, e1, e2)
-            if med is None:  # a scene without media: the plain any-hit query (the media code is not compiled)
+            if no_shadow:
+                visible = True
+            elif vis is not None and vis.masked != 0 and med is None:
+                visible = not _occluded_linked(vis, vis.emit_sgrp[ei], (sox, soy, soz), (wx, wy, wz), tmax_s, eps,
+                                               geo.nodes, geo.tris, scr.stack)
+            elif med is None:  # a scene without media: the plain any-hit query (the media code is not compiled)
                 visible = not trace_occluded(sox, soy, soz, wx, wy, wz, 0.0, tmax_s, geo.nodes, geo.tris, scr.stack)
             else:
                 visible = media.unoccluded(has_media, (sox, soy, soz), (wx, wy, wz), tmax_s, vol,
@@ -1136,17 +1248,16 @@ def _film_add(fr, y, x, scr, axyz, transp, photometric):
 
 
 @kernel(refcount=False)
-def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr, act):
+def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr, act, vis):
     """Add samples s0 .. s1-1 of every pixel of rows y0 .. y1-1 to the film record ``fr``
     (of the pixels where ``act``, uint8 (H, W), is not 0: adaptive sampling; act (0, 0): all).
 
     The records (each field documented where it is defined): fr core/film/record.py, geo
     core/geometry/record.py, mat core/bsdfs/record.py, emt core/lights/record.py, med
     core/media/record.py, txr core/textures/record.py, camr core/camera/record.py, st
-    core/integrators/settings.py, scr ``Scratch``. med and txr are None for a scene without
-    media (and null surfaces) or without image textures (``render.kernel_records``): numba
-    prunes the branches on ``med is None`` and ``txr is None`` at compile time, so the
-    kernel for such a scene (the Cornell box) compiles none of the media or texture code.
+    core/integrators/settings.py, scr ``Scratch``, vis core/geometry/visibility.py; med, txr,
+    vis are None for a scene without media or null surfaces, image textures, visibility flags:
+    numba prunes the branches on them at compile time (``render.kernel_records``, ``prepare``).
 
     A serial kernel that releases the GIL: the renderer runs blocks of rows on a pool of
     Python threads (compiling a prange kernel takes four times as long, and numba's
@@ -1168,8 +1279,6 @@ def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr, act)
     # counted with weight 1), against which tests check the NEE + MIS estimator
     do_nee = st.nee != 0 and emt.emit_prob.shape[0] > 0
     eps = EPS_REL * st.scene_scale
-    # med None, txr None: a scene without media (or null surfaces), without image textures;
-    # numba prunes the branches on them, so that kernel compiles none of their code
     has_media = False
     cam_medium = np.int64(-1)
     if med is not None:
@@ -1208,18 +1317,21 @@ def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr, act)
                 outer = np.int64(-1)  # np.int64: a literal -1 would compile media.shadow/nee/cross twice
                 transp = 0.0
                 t_lo = 0.0  # the ray goes on from here after passing null surfaces
+                rc = (np.int64(RAY_CAMERA), np.int64(-1))  # the ray's class and receiving triangle (vis)
                 if med is not None and has_media:
                     media.start_path(med.med_tab, medium, scr.work[0], scr.mw)
                 while True:
                     t, prim, bu, bv, t_end, dim = _segment(geo, mat, emt, st, smp, cfg, scr, (ox, oy, oz),
-                                                           (dx, dy, dz), t_lo, medium, depth, dim, prev_delta, prev_pdf)
+                                                           (dx, dy, dz), t_lo, medium, depth, dim,
+                                                           (prev_delta, prev_pdf), vis, rc)
                     if med is not None and medium >= 0:
                         if t_end < t:  # a scattering event in the medium
                             alive, ox, oy, oz, dx, dy, dz, prev_pdf, depth, dim = _medium_scatter(
                                 geo, mat, emt, med, st, smp, cfg, scr, (ox, oy, oz), (dx, dy, dz), (t, t_end, t_lo),
-                                (medium, outer), depth, dim)
+                                (medium, outer), depth, dim, vis)
                             if not alive:
                                 break
+                            rc = (np.int64(RAY_VOLUME), np.int64(-1))
                             prev_delta = False
                             t_lo = 0.0
                             continue
@@ -1248,7 +1360,8 @@ def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr, act)
                             transp = 1.0
                             break
                     hit = (px, py, pz, nx, ny, nz, area, cos_i)
-                    _emission(geo, mat, emt, st, cfg, scr, (ox, oy, oz), hit, t, prim, m, prev_delta, prev_pdf)
+                    _emission(geo, mat, emt, st, cfg, scr, (ox, oy, oz), hit, t, prim, m, prev_delta, prev_pdf, vis,
+                              rc)
                     if depth > st.max_depth:
                         break
                     m, mix_w, dim = _pick_component(mat, st, smp, m, dim)
@@ -1266,8 +1379,8 @@ def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr, act)
                         alb_done = True
                         axyz = _albedo(mat, txr, m, tex_base, (cr, cg, cb), mix_w, axyz)
                     if do_nee and (flags_m & (BSDF_DIFFUSE | BSDF_GLOSSY)) != 0:
-                        _surface_nee(geo, mat, emt, med, st, smp, cfg, scr, dim, hit, shade, prim, model, pm, mix_w,
-                                     (medium, outer))
+                        _surface_nee(geo, mat, emt, med, st, smp, cfg, scr, dim, hit, shade, prim, (model, pm, mix_w),
+                                     (medium, outer), vis)
                     dim += 3
                     flags, wix, wiy, wiz, pdf, q, dispersed, dim = _bsdf_step(mat, st, smp, cfg, scr, dim, shade[9:],
                                                                               model, pm, mix_w, dispersed)
@@ -1275,6 +1388,8 @@ def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr, act)
                         break
                     prev_delta = (flags & BSDF_DELTA) != 0
                     prev_pdf = pdf
+                    if vis is not None:
+                        rc = (np.int64(_ray_class(flags, wiz, shade[11])), np.int64(prim))
                     ok, ox, oy, oz, dx, dy, dz, medium, outer = _next_ray(geo, med, cfg, scr, hit, shade,
                                                                           (wix, wiy, wiz), prim, (medium, outer))
                     if not ok or not math.isfinite(dx + dy + dz):  # a NaN direction ends the path

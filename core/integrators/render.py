@@ -26,6 +26,7 @@ from ..camera import record as camera_record
 from ..film import Film
 from ..film import record as film_record
 from ..geometry import record as geometry_record
+from ..geometry import visibility as visibility_record
 from ..geometry.accel import build as build_bvh
 from ..lights import record as lights_record
 from ..media import record as media_record
@@ -55,6 +56,7 @@ class Prepared:
     textures: textures_record.TextureRecord
     camera: camera_record.CameraRecord
     settings: settings_record.SettingsRecord
+    visibility: visibility_record.VisibilityRecord | None = None  # None: no visibility flags nor links
 
 
 def prepare(scene: Scene, measure=False, bvh=None) -> Prepared:
@@ -86,8 +88,9 @@ def prepare(scene: Scene, measure=False, bvh=None) -> Prepared:
     scale = settings_record.scene_scale(v0, v1, v2, emitters.light_kind, emitters.light_geo)
     media = media_record.pack(scene, spec, v0, v1, v2, tri_mat_orig, measure)
     geometry = geometry_record.pack(scene, bvh, tri_mat, tri_emitter, tri_mat_orig, measure)
+    visibility = visibility_record.pack(scene, bvh, emitters)
     return Prepared(scene, bvh, time.perf_counter() - t0, cmf, geometry, materials, emitters, media, textures,
-                    camera_record.pack(scene), settings_record.pack(scene.settings, sensor_mat, scale))
+                    camera_record.pack(scene), settings_record.pack(scene.settings, sensor_mat, scale), visibility)
 
 
 def kernel_records(prep):
@@ -111,7 +114,8 @@ def _rows(prep, film, y0, y1, s0, s1, active=None):
     med, txr = kernel_records(prep)
     render_rows(int(y0), int(y1), int(s0), int(s1), film_record.pack(film, prep.cmf), prep.geometry,
                 prep.materials, prep.emitters, med, txr, prep.camera, prep.settings,
-                scratch(prep.materials.params.shape[1]), ALL_PIXELS if active is None else active)
+                scratch(prep.materials.params.shape[1]), ALL_PIXELS if active is None else active,
+                prep.visibility)
 
 
 def thread_count(threads=None):

@@ -264,7 +264,8 @@ def record():
     cctx = cpu_target.target_context
     tctx.refresh()
     cctx.refresh()
-    sigs = [s for s in render_rows.signatures if isinstance(s[8], types.NoneType) and isinstance(s[9], types.NoneType)]
+    sigs = [s for s in render_rows.signatures
+            if all(isinstance(s[k], types.NoneType) for k in (8, 9, 14))]  # no media, textures, visibility
     c = _TypeOnly(tctx, cctx, None, (sigs or render_rows.signatures)[-1], None, flags, {})
     try:
         c.compile_extra(render_rows.py_func)

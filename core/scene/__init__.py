@@ -56,6 +56,23 @@ class Mesh:
     corner_uvs: np.ndarray | None = None  # float32 (T*3, 2): UVs per triangle corner (wins over uvs), or None
     sensor: bool = False  # an illuminance sensor (core.sensors.render_illuminance measures on it)
     holdout: bool = False  # camera rays that reach it first see a hole (alpha 0); other rays its material
+    # ray visibility (Cycles' Object > Visibility > Ray Visibility): False, rays of that kind pass through it
+    # (a hidden emitter also gives no light to them; see docs/reference/scene-format.md)
+    visible_camera: bool = True
+    visible_diffuse: bool = True
+    visible_glossy: bool = True
+    visible_transmission: bool = True
+    visible_volume: bool = True  # rays scattered in a medium
+    visible_shadow: bool = True  # False: casts no shadow
+    # light and shadow linking of an emissive mesh (as ``Light.receivers`` / ``Light.blockers``)
+    receivers: list | None = None
+    blockers: list | None = None
+
+
+VISIBILITY_FLAGS = ("visible_camera", "visible_diffuse", "visible_glossy", "visible_transmission", "visible_volume",
+                    "visible_shadow")
+MESH_FLAGS = ("sensor", "holdout") + VISIBILITY_FLAGS
+LINK_FIELDS = ("receivers", "blockers")
 
 
 @dataclass
@@ -203,6 +220,17 @@ class Light:
     profile: int = -1  # point/spot: index into Scene.profiles (IES / EULUMDAT), -1 = none
     profile_mode: str = "file"  # "file" (its candela), "peak" (max = intensity cd) or "flux" (total = flux lm)
     flux: float = 0.0  # lm: a profiled light's total output when profile_mode is "flux"
+    # ray visibility (``visible`` is the camera's): False, rays of that kind do not see the light, and
+    # surface points whose scattering is of that kind get no light from it
+    visible_diffuse: bool = True
+    visible_glossy: bool = True
+    visible_transmission: bool = True
+    visible_volume: bool = True
+    cast_shadow: bool = True  # False: nothing occludes it (Blender's light "Cast Shadow")
+    # light linking: the meshes (indices into Scene.meshes) it lights, None: all
+    receivers: list | None = None
+    # shadow linking: the meshes that cast its shadows, None: every mesh with visible_shadow
+    blockers: list | None = None
 
 
 PROFILE_MODES = ("file", "peak", "flux")
@@ -535,9 +563,26 @@ def _validate_meshes(scene):
                 if a.size and np.abs(a).max() > MAX_UV:
                     _fail(f"{nm}.{key}", f"a texture coordinate of magnitude {np.abs(a).max():.3g} "
                                          f"(at most {MAX_UV:g})")
-        for key in ("sensor", "holdout"):
+        for key in MESH_FLAGS:
             if not isinstance(getattr(mesh, key), (bool, np.bool_)):
                 _fail(f"{nm}.{key}", f"expected true or false, got {getattr(mesh, key)!r}")
+        _check_links(nm, mesh, len(scene.meshes))
+
+
+def _check_links(nm, rec, n_meshes):
+    """``receivers`` and ``blockers`` of a light or mesh: None or a list of distinct mesh indices."""
+    for key in LINK_FIELDS:
+        v = getattr(rec, key)
+        if v is None:
+            continue
+        if not isinstance(v, (list, tuple)):
+            _fail(f"{nm}.{key}", f"expected null or a list of mesh indices, got {type(v).__name__}")
+        for k, idx in enumerate(v):
+            _check_number(f"{nm}.{key}[{k}]", idx, integer=True)
+            if not 0 <= idx < n_meshes:
+                _fail(f"{nm}.{key}[{k}]", f"mesh index {idx} out of range [0, {n_meshes})")
+        if len(set(int(i) for i in v)) != len(v):
+            _fail(f"{nm}.{key}", "a mesh index is listed twice")
 
 
 def _validate_profiles(scene):
@@ -571,7 +616,10 @@ def _validate_lights(scene, spec_ref):
         v = _check_vec3(f"{nm}.axis_v", li.axis_v, hi=1e6)
         spec_ref(f"{nm}.spectrum", li.spectrum, C.SPECTRUM_UNBOUNDED, allow_none=False)
         _check_bool(f"{nm}.two_sided", li.two_sided)
-        _check_bool(f"{nm}.visible", li.visible)
+        for key in ("visible", "visible_diffuse", "visible_glossy", "visible_transmission", "visible_volume",
+                    "cast_shadow"):
+            _check_bool(f"{nm}.{key}", getattr(li, key))
+        _check_links(nm, li, len(scene.meshes))
         if li.kind in (C.LIGHT_RECT, C.LIGHT_ELLIPSE):
             area = float(np.linalg.norm(np.cross(u, v)))
             if not area > MIN_LENGTH * MIN_LENGTH * 1e6:
@@ -767,9 +815,12 @@ def to_dict_and_arrays(scene: Scene):
             if a is not None:
                 arrays[f"meshes.{i}.{key}"] = a
                 rec[key] = f"meshes.{i}.{key}"
-        for key in ("sensor", "holdout"):
-            if getattr(m, key):
-                rec[key] = True
+        for key in MESH_FLAGS:  # written when not the default
+            if getattr(m, key) != (key in VISIBILITY_FLAGS):
+                rec[key] = bool(getattr(m, key))
+        for key in LINK_FIELDS:
+            if getattr(m, key) is not None:
+                rec[key] = [int(i) for i in getattr(m, key)]
         meshes.append(rec)
     profiles = []
     for i, pr in enumerate(scene.profiles):
@@ -913,6 +964,12 @@ def _typed(field_name, kind, v):
             raise SceneError(f"{field_name}: expected 4 rows of 4 numbers, got {_describe(v)}")
         return np.array([[_as_float(f"{field_name}[{i}][{j}]", x) for j, x in enumerate(r)]
                          for i, r in enumerate(v)], dtype=np.float64)
+    if kind == "indices":
+        if v is None:
+            return None
+        if type(v) is not list or any(type(x) is not int for x in v):
+            raise SceneError(f"{field_name}: expected null or a list of integers, got {_describe(v)}")
+        return list(v)
     if kind == "any":
         return v
     raise AssertionError(kind)  # pragma: no cover
@@ -936,7 +993,7 @@ def _kinds(cls, overrides):
 _FIELD_TYPES = {
     Material: _kinds(Material, {"name": "str", "params": "params"}),
     Light: _kinds(Light, {"name": "str", "kind": "int", "position": "vec3", "axis_u": "vec3", "axis_v": "vec3",
-                          "spectrum": "int", "luminance": "float"}),
+                          "spectrum": "int", "luminance": "float", "receivers": "indices", "blockers": "indices"}),
     Medium: _kinds(Medium, {"name": "str"}),
     Camera: _kinds(Camera, {"to_world": "matrix4"}),
     World: _kinds(World, {"image": "any"}),
@@ -1080,7 +1137,7 @@ def _from_doc(doc, path, reader):
                             arr(need(sp, "kind", "spectra"), "spectra.kind"), names(need(sp, "names", "spectra"),
                                                                                   "spectra.names"))
     meshes = []
-    mesh_keys = {"name", "positions", "indices", "material", "normals", "uvs", "corner_uvs", "sensor", "holdout"}
+    mesh_keys = {"name", "positions", "indices", "material", "normals", "uvs", "corner_uvs", *MESH_FLAGS, *LINK_FIELDS}
     for i, m in enumerate(lst(doc["meshes"], "meshes")):
         nm = f"meshes[{i}]"
         obj(m, nm)
@@ -1098,8 +1155,8 @@ def _from_doc(doc, path, reader):
             normals=arr(m.get("normals"), f"{nm}.normals"),
             uvs=arr(m.get("uvs"), f"{nm}.uvs"),
             corner_uvs=arr(m.get("corner_uvs"), f"{nm}.corner_uvs"),
-            sensor=_typed(f"{nm}.sensor", "bool", m.get("sensor", False)),
-            holdout=_typed(f"{nm}.holdout", "bool", m.get("holdout", False)),
+            **{key: _typed(f"{nm}.{key}", "bool", m.get(key, key in VISIBILITY_FLAGS)) for key in MESH_FLAGS},
+            **{key: _typed(f"{nm}.{key}", "indices", m.get(key)) for key in LINK_FIELDS},
         ))
     materials = [record(Material, d, f"materials[{i}]") for i, d in enumerate(lst(doc["materials"], "materials"))]
     itd = doc.get("ior_tables")

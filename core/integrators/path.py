@@ -1262,16 +1262,11 @@ def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr, act,
     A serial kernel that releases the GIL: the renderer runs blocks of rows on a pool of
     Python threads (compiling a prange kernel takes four times as long, and numba's
     threading layers abort the process on concurrent launches). Rows never overlap, so
-    the film does not depend on the number of threads. Per sample ``_camera_sample``; each
-    bounce: ``_segment`` (trace, free flight, analytic lights), ``_medium_scatter`` or the
-    world or a surface hit (``_hit_point``, ``_shading_normal``, ``_first_hit``: AOVs,
-    holdouts, sensors; ``_emission``; ``_pick_component``, ``_surface_material``,
-    ``_shading_frame``, ``_albedo``; ``_surface_nee``; ``_bsdf_step``, ``_next_ray``,
-    ``_roulette``); then ``_film_add``. The large pieces of the body (camera sample,
-    segment, emission, surface material, surface NEE, BSDF step) are fragments, inlined
-    into it by numba (core/jit.py ``fragment``); the small ones are ``inline`` helpers,
-    which LLVM inlines; ``_medium_scatter``, off the path of scenes without media, is a
-    ``function`` (see docs/design/numba.md, the first compile).
+    the film does not depend on the number of threads. Each bounce: ``_segment`` (trace,
+    free flight, analytic lights), then ``_medium_scatter``, the world or a surface hit
+    (``_first_hit``: AOVs, holdouts, sensors; ``_emission``, ``_surface_material``,
+    ``_surface_nee``, ``_bsdf_step``, ``_roulette``). Large pieces are ``fragment``s inlined
+    by numba, small ones ``inline``; ``_medium_scatter`` is a ``function`` (docs/design/numba.md).
     """
     height = fr.sums.shape[0]
     width = fr.sums.shape[1]

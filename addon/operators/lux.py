@@ -193,7 +193,7 @@ def store_result(obj, surface, lux0, se, used, luminaires=(), unlit=None, method
     from ...core import lux
 
     samples = int(used.max())
-    st = lux.statistics(surface, lux0, se, samples=samples)
+    st = lux.statistics(surface, lux0, se, samples=samples or None)  # radiosity: no samples
     s = obj.spectral_gi_lux
     s.mean, s.minimum, s.maximum = st.mean, st.minimum, st.maximum
     s.u0, s.ud = st.u0 or 0.0, st.ud or 0.0
@@ -333,7 +333,7 @@ def write_report(context, obj, folder):
     date = datetime.date.today().isoformat()
     os.makedirs(folder, exist_ok=True)
     lux.write_surface_csv(stem + ".csv", surface, e, se)
-    summary = lux.write_summary_json(stem + ".json", surface, e, se, samples=spp, luminaires=luminaires,
+    summary = lux.write_summary_json(stem + ".json", surface, e, se, samples=spp or None, luminaires=luminaires,
                                      project=project, date=date, unlit=saved_unlit(obj))
     method = saved_method(obj)
     if method == "radiosity":  # the summary says how its values were computed
@@ -352,7 +352,7 @@ def write_report(context, obj, folder):
     img = None
     if has_matplotlib():
         options = overlay_options(s, e * surface.maintenance_factor)
-        lux.render_report(surface, e, se, samples=spp, luminaires=luminaires, project=project, date=date,
+        lux.render_report(surface, e, se, samples=spp or None, luminaires=luminaires, project=project, date=date,
                           png_path=stem + ".png", pdf_path=stem + ".pdf", **options)
         written += [stem + ".png", stem + ".pdf"]
         old = bpy.data.images.get(f"{obj.name} lux report")

@@ -681,7 +681,7 @@ class SPECTRALGI_OT_lux_calculate(_LuxJobOperator, bpy.types.Operator):
         obj = context.active_object
         objects = marked_objects(context.scene) if self.all_surfaces or obj is None else [obj]
         objects = [o for o in objects if o.type == "MESH" and o.spectral_gi_lux.enabled]
-        if not objects:
+        if not objects and context.scene.spectral_gi_lux_method != "RADIOSITY":  # radiosity: the overlay alone
             raise LuxInputError("no calculation surface (mark a mesh in Object properties, or Add Work Plane)")
         return objects
 

@@ -47,12 +47,13 @@ def _rays(out, spp_or_g):
     return o[:, 0].astype(np.int64), o[:, 1], o[:, 2]
 
 
-def _interpolate(values_v, faces, patch, b1, b2):
-    """Per-vertex values (V, K) at barycentric (b1, b2) of each patch (−1: 0)."""
+def _interpolate(table, which, faces, patch, b1, b2):
+    """Per-vertex values ``table[which]`` (tables (M, V, C), one index per ray) at barycentric
+    (b1, b2) of each ray's patch (−1: 0): (R, C)."""
     ok = patch >= 0
     f = faces[np.maximum(patch, 0)]
-    v = ((1.0 - b1 - b2)[:, None] * values_v[f[:, 0]] + b1[:, None] * values_v[f[:, 1]]
-         + b2[:, None] * values_v[f[:, 2]])
+    v = ((1.0 - b1 - b2)[:, None] * table[which, f[:, 0]] + b1[:, None] * table[which, f[:, 1]]
+         + b2[:, None] * table[which, f[:, 2]])
     v[~ok] = 0.0
     return v
 
@@ -95,9 +96,16 @@ def final_gather(solution, scene, *, spp=None, gather=64, n_light=None, n_shadow
     reflected_v = meshing.to_vertices(mesh, patches, solution.radiosity - be)  # (V, K)
     emit = np.nonzero(np.any(be > 0, axis=1))[0].astype(np.int32)
     sky = ctx.light_bands[-1]
-    xyz_band = ctx.xyz_band
-    v_band = ctx.v_band
     photometric = sums.shape[-1] > 5
+    # the film's channels of a radiance per band: X, Y, Z and the V-weighted Y
+    basis = np.concatenate([ctx.xyz_band, ctx.v_band[:, None]], axis=1)  # (K, 4)
+    # a gather ray's reading, already in film channels for each reflectance of the scene: the
+    # reflected radiosity at each vertex times ρ/π of the gathering patch (one table per distinct ρ)
+    rho_u, rho_of = np.unique(rho, axis=0, return_inverse=True)
+    rho_of = rho_of.reshape(-1)
+    table = np.einsum("vk,mk,kc->mvc", reflected_v, rho_u, basis) / math.pi  # (M, V, 4)
+    sky_c = sky @ basis
+    need_direct = ctx.lit.kind.size > 0 or bool(np.any(sky > 0))
     n_pix = w * h
     tile = max(1, TILE_SAMPLES // spp)
     t0 = time.perf_counter()
@@ -114,7 +122,7 @@ def final_gather(solution, scene, *, spp=None, gather=64, n_light=None, n_shadow
                    filt=cam.filt)
         patch, b1, b2 = _rays(run_op(K.OP_CAMERA, ctx.pat, q, ctx.lit, 3 * spp, spp, seed, ctx.eps, nt),
                               spp)
-        L = np.broadcast_to(sky, (patch.size, sky.size)).copy()
+        out = np.broadcast_to(sky_c, (patch.size, 4)).copy()  # film channels per sample
         hit = np.nonzero(patch >= 0)[0]
         nrm_s = np.zeros((patch.size, 3))
         if hit.size:
@@ -125,7 +133,7 @@ def final_gather(solution, scene, *, spp=None, gather=64, n_light=None, n_shadow
             nrm_s[hit] = nrm
             own = np.full(hit.size, -1, np.int32)  # light samples and shadow rays keyed by the row
             H = np.zeros((hit.size, sky.size))
-            if n_light > 0:
+            if n_light > 0 and need_direct:
                 d = run_op(K.OP_DIRECT, ctx.pat, _query(x[:, None], nrm, own), ctx.lit, ctx.lit.kind.size + 1,
                            n_light, tseed, ctx.eps, nt).astype(np.float64)
                 H += d @ ctx.light_bands
@@ -133,15 +141,17 @@ def final_gather(solution, scene, *, spp=None, gather=64, n_light=None, n_shadow
                 fe = run_op(K.OP_FORM_FACTORS, ctx.pat, _query(x[:, None], nrm, own, emit), ctx.lit, emit.size,
                             int(n_shadow), tseed, ctx.eps, nt).astype(np.float64)
                 H += fe @ be[emit]
+            res = (rho[j] * H / math.pi + be[j] / math.pi) @ basis
             if gather > 0:
                 key = ((p0 * spp + hit) % (1 << 31)).astype(np.int32)
                 og = run_op(K.OP_GATHER, ctx.pat, _query(x[:, None], nrm, key), ctx.lit, 3 * gather, gather, tseed,
                             ctx.eps, nt)
                 gp, g1, g2 = _rays(og, gather)
-                H += _interpolate(reflected_v, mesh.faces, gp, g1, g2).reshape(hit.size, gather, -1).mean(axis=1)
-            L[hit] = rho[j] * H / math.pi + be[j] / math.pi
-        xyz = L @ xyz_band  # (S, 3)
-        y = L @ v_band if photometric else xyz[:, 1]
+                res += _interpolate(table, rho_of[np.repeat(j, gather)], mesh.faces, gp, g1, g2).reshape(
+                    hit.size, gather, 4).mean(axis=1)
+            out[hit] = res
+        xyz = out[:, :3]
+        y = out[:, 3] if photometric else xyz[:, 1]
         m = p1 - p0
         blk = sums[p0 // w: (p1 - 1) // w + 1].reshape(-1, sums.shape[-1])
         off = p0 - (p0 // w) * w

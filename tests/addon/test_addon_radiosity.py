@@ -148,3 +148,15 @@ def test_radiosity_cancel_keeps_the_earlier_result(ext, bpy, monkeypatch):
     monkeypatch.setattr(job_mod.LuxJob, "on_progress", None)
     assert bpy.ops.spectral_gi.lux_calculate() == {"FINISHED"}
     assert target.spectral_gi_lux.mean == pytest.approx(4 * before[0], rel=1e-6)
+
+
+def test_radiosity_without_calculation_surfaces_gives_the_overlay_alone(ext, bpy):
+    target = lit_room(ext, bpy)
+    target.spectral_gi_lux.enabled = False
+    assert bpy.ops.spectral_gi.lux_calculate() == {"FINISHED"}
+    assert sorted(bpy.context.scene.spectral_gi_radiosity.objects.splitlines()) == ["Floor radiosity",
+                                                                                    "Wall radiosity"]
+    assert not target.spectral_gi_lux.valid
+    bpy.context.scene.spectral_gi_lux_method = "PATH"
+    with pytest.raises(RuntimeError, match="no calculation surface"):
+        bpy.ops.spectral_gi.lux_calculate()

@@ -68,7 +68,9 @@ def final_gather(solution, scene, *, spp=None, gather=64, n_light=None, n_shadow
     camera samples per pixel done so far (fractional tiles rounded down) of ``spp``, and
     samples per second, after each tile; ``should_cancel()`` between tiles. Returns
     (core.film.Film, seconds, cancelled); a cancelled film holds the tiles done (the
-    others have no samples)."""
+    others have no samples). The film's passes: normals and hits as the path tracer's, depth
+    the distance of the first hit from the camera's position (the path tracer's distance
+    along the ray for a pinhole), no albedo."""
     from ...camera import record as camera_record
     from ...film import Film
     from .solve import _query, run_op
@@ -85,6 +87,7 @@ def final_gather(solution, scene, *, spp=None, gather=64, n_light=None, n_shadow
     seed = int(st.seed if seed is None else seed)
     n_light = int(ctx.n_light if n_light is None else n_light)
     cam = camera_record.pack(scene)
+    origin = np.asarray(scene.camera.to_world, np.float64)[:3, 3]  # the depth pass: distance from here
     w, h = int(scene.camera.width), int(scene.camera.height)
     film = Film(w, h, observer=st.observer)
     sums = np.zeros_like(film.sums)
@@ -125,12 +128,14 @@ def final_gather(solution, scene, *, spp=None, gather=64, n_light=None, n_shadow
         out = np.broadcast_to(sky_c, (patch.size, 4)).copy()  # film channels per sample
         hit = np.nonzero(patch >= 0)[0]
         nrm_s = np.zeros((patch.size, 3))
+        dist = np.zeros(patch.size)
         if hit.size:
             j = patch[hit]
             c = patches.corners[j]
             x = c[:, 0] + b1[hit, None] * (c[:, 1] - c[:, 0]) + b2[hit, None] * (c[:, 2] - c[:, 0])
             nrm = patches.normal[j]
             nrm_s[hit] = nrm
+            dist[hit] = np.linalg.norm(x - origin, axis=1)
             own = np.full(hit.size, -1, np.int32)  # light samples and shadow rays keyed by the row
             H = np.zeros((hit.size, sky.size))
             if n_light > 0 and need_direct:
@@ -163,6 +168,7 @@ def final_gather(solution, scene, *, spp=None, gather=64, n_light=None, n_shadow
             part[:, 5] += y.reshape(m, spp).sum(axis=1)
         ablk = aov[p0 // w: (p1 - 1) // w + 1].reshape(-1, aov.shape[-1])[off:off + m]
         ablk[:, 3:6] += nrm_s.reshape(m, spp, 3).sum(axis=1)
+        ablk[:, 6] += dist.reshape(m, spp).sum(axis=1)
         ablk[:, 7] += (patch >= 0).reshape(m, spp).sum(axis=1)
         done = p1
         if progress is not None:

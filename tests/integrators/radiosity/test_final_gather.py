@@ -1,6 +1,7 @@
 """The final gather (core/integrators/radiosity/gather.py): the kernel's camera and gather
 rays against brute-force tracing (tests/oracles/radiosity.py), a closed emitting room whose
 image is known in closed form, and the Cornell box against the path tracer (slow)."""
+import math
 import sys
 from pathlib import Path
 
@@ -126,9 +127,14 @@ def test_a_glowing_room_renders_its_closed_form():
     film, stats, sol = core.render_radiosity(sc, max_edge=0.5, method="gauss-seidel", tol=1e-8, n_vis=0,
                                              gather=16, n_shadow=4)
     assert stats.spp == 2 and not stats.cancelled
-    lum = film.develop().luminance
-    np.testing.assert_allclose(lum, 10.0 / (1 - 0.6), rtol=0.005)
+    dev = film.develop()
+    np.testing.assert_allclose(dev.luminance, 10.0 / (1 - 0.6), rtol=0.005)
     assert np.all(film.sums[..., 3] == 2)
+    # passes: every sample hits; the depth is a distance inside the cube; the normals are the walls'
+    # (a pixel across an edge averages two perpendicular ones: length ≥ 1/√2)
+    assert np.all(film.aov[..., 7] == 2)
+    assert np.all((dev.depth > 0.1) & (dev.depth < math.sqrt(3)))
+    assert np.all(np.linalg.norm(dev.normal, axis=-1) > 0.7)
 
 
 def test_same_image_for_any_thread_count_and_cancel():

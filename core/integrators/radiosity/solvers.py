@@ -157,8 +157,10 @@ def gauss_seidel(F, rho, E, area=None, *, tol=1e-6, max_iter=10000, progress=Non
     rows already updated in this sweep. The sweep is blocked: for a block of rows [a, b)
     the rows before it (updated) and after it (not yet) enter by matrix products, and the
     block's own rows by the lower-triangular system (I − ρ L) x = r of its diagonal block
-    (L its strictly lower part), solved directly: the same iterate as the row-by-row
-    sweep, to rounding, at the cost of matrix products."""
+    (L its strictly lower part): solved directly when every column has the same ρ, by
+    forward substitution over the block's rows (every column at once) when they differ.
+    The same iterate as the row-by-row sweep, to rounding; the O(n²) work is in matrix
+    products, the rows' loop does O(block) work each."""
     F, rho, E, area = _check(F, rho, E, area)
     n = F.shape[0]
 
@@ -175,9 +177,11 @@ def gauss_seidel(F, rho, E, area=None, *, tol=1e-6, max_iter=10000, progress=Non
             eye = np.eye(b - a)
             if rh.shape[1] == 1:
                 B[a:b] = np.linalg.solve(eye - rh * low, rhs)
-            else:  # one triangular system per column (ρ differs between them)
-                M = eye[None] - rh.T[:, :, None] * low[None]
-                B[a:b] = np.linalg.solve(M, rhs.T[:, :, None])[:, :, 0].T
+            else:  # ρ differs between the columns: forward substitution, every column at once
+                x = rhs
+                for i in range(1, b - a):
+                    x[i] += rh[i] * (low[i, :i] @ x[:i])
+                B[a:b] = x
         return B
 
     return _loop("gauss-seidel", sweep, F, rho, E, area, tol, max_iter, progress, should_cancel)

@@ -2,6 +2,7 @@
 
     spectral-gi render [SCENE] [--spp N] [--width W --height H] [--max-depth D]
                        [--seed S] [--threads T] [--out FILE.exr] [--exposure EV]
+                       [--method path|radiosity] [--max-edge M] [--gather G]
     spectral-gi render-blend SCENE.blend [--out FILE.exr] [--spp N] [--compare-cycles] [--json REPORT.json]
     spectral-gi lux [SCENE] --sensors POINTS.pts [--out lux.csv] [--spp N | --rel-error E]
                     [--max-depth D] [--seed S] [--threads T] [--method path|radiosity] [--max-edge M]
@@ -18,6 +19,7 @@ import os
 import signal
 import sys
 import time
+import warnings
 from pathlib import Path
 
 EXIT_OK = 0
@@ -196,6 +198,15 @@ def _parser():
                    help="denoise the colour image (R, G, B and the PNG) with OpenImageDenoise, guided by the film's "
                         "albedo and normals (needs the pyoidn package); XYZ, Luminance, xyY, Lab and Luv stay the "
                         "renderer's unbiased estimates")
+    r.add_argument("--method", choices=("path", "radiosity"), default="path",
+                   help="path: the path tracer (default); radiosity: a radiosity solution of the scene (diffuse "
+                        "materials; others replaced by their albedo) rendered by final gather: the path tracer's "
+                        "first bounce, exact direct light and gather rays reading the solution")
+    r.add_argument("--max-edge", type=_float_in(1e-6, 1e9),
+                   help="radiosity: patch size in m (default: the size that cuts the scene into about 2500 "
+                        "patches)")
+    r.add_argument("--gather", type=_positive_int, default=64,
+                   help="radiosity: gather rays per camera sample (default 64)")
     b = sub.add_parser("render-blend", help="render a .blend file with the bpy module (no Blender window) to "
                                             "OpenEXR + PNG, optionally compared with Cycles")
     b.add_argument("blend", help="the .blend file")
@@ -415,6 +426,15 @@ def _render(args, stop):
         resume, bins = load_film(args.resume, "--resume", "the film to resume"), 0
     if resume is None and args.checkpoint and Path(args.checkpoint).is_file():
         resume, bins = load_film(args.checkpoint, "--checkpoint", "the checkpoint"), 0
+    if args.method == "radiosity":
+        for flag, given in (("--resume", args.resume), ("--checkpoint", args.checkpoint),
+                            ("--scheduler", args.scheduler), ("--spectral-bins", bins), ("--denoise", args.denoise),
+                            ("--time-limit", args.time_limit), ("--noise-target", args.noise_target)):
+            if given:
+                raise SceneError(f"{flag}: not available with --method radiosity")
+        return _render_radiosity(args, stop, scene, out, png, white_balance)
+    if args.max_edge is not None:
+        raise SceneError("--max-edge applies to --method radiosity")
     check_render_inputs(scene, bins, resume)  # before anything is printed: one line if it fails
     bar = _Progress()
     title = scene.metadata.get("name", args.scene or "scene")
@@ -471,6 +491,48 @@ def _render(args, stop):
     if stats.cancelled:
         sys.stderr.write(f"stopped early at {stats.spp} of {st.spp} spp\n")
         return EXIT_INTERRUPTED
+    if stop.requested:
+        sys.stderr.write("interrupted while writing; the output is complete\n")
+        return EXIT_INTERRUPTED
+    return EXIT_OK
+
+
+def _render_radiosity(args, stop, scene, out, png, white_balance):
+    """``render --method radiosity``: solve, final gather, and the same EXR and PNG outputs."""
+    from .core.integrators.radiosity import render_radiosity
+    from .core.io.atomic import atomic_paths
+    from .core.io.exr import write_render
+    from .core.io.png import write_png
+
+    st = scene.settings
+    bar = _Progress()
+    bar.status(f"Rendering by radiosity and final gather: {scene.camera.width}x{scene.camera.height}, {st.spp} spp, "
+               f"{args.gather} gather rays a sample, {scene.n_triangles} triangles")
+    stop.mode = "cancel"
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        film, stats, sol = render_radiosity(scene, max_edge=args.max_edge, gather=args.gather,
+                                            threads=args.threads or None, progress=bar, status=bar.status,
+                                            should_cancel=lambda: stop.requested)
+    for w in caught:
+        sys.stderr.write(f"spectral-gi: warning: {w.message}\n")
+    stop.mode = "write"
+    if stats.cancelled or film.spp == 0:
+        sys.stderr.write("spectral-gi: interrupted; nothing written\n")
+        return EXIT_INTERRUPTED
+    try:
+        dev = film.develop(white_balance=white_balance, colour_space=st.colour_space)
+        attrs = {"spectralgi.spp": str(stats.spp), "spectralgi.seed": str(st.seed),
+                 "spectralgi.method": "radiosity", "spectralgi.patches": str(sol.patches.n),
+                 "spectralgi.gather": str(args.gather)}
+        with atomic_paths([out, png]) as (tmp_exr, tmp_png):  # both files or neither
+            write_render(tmp_exr, dev, attrs)
+            write_png(tmp_png, dev.rgb, args.exposure)
+    except Exception as e:
+        return _fail(f"cannot write {out} and {png.name} ({_one_line(e)})", EXIT_ERROR)
+    sys.stderr.write(f"radiosity: {sol.patches.n} patches in {stats.build_seconds:.2f} s; final gather {stats.spp} "
+                     f"spp in {stats.seconds:.2f} s; mean luminance {float(dev.luminance.mean()):.4g} cd/m²\n")
+    print(f"wrote {out} and {png}")
     if stop.requested:
         sys.stderr.write("interrupted while writing; the output is complete\n")
         return EXIT_INTERRUPTED

@@ -8,6 +8,11 @@ nothing, so the results of an earlier calculation stay as they were.
 
 Each surface's points go to core in one call, so its values are those core gives for the
 same points, seed and samples (bit-identical for any number of threads).
+
+With ``method="RADIOSITY"`` the job solves the whole scene once by radiosity
+(``core.radiosity`` with the lighting analysis' defaults) and each surface's points gather
+from the solution (``core.radiosity_illuminance``: direct light exact, the solution for
+the rest); the solution is kept in ``job.radiosity`` for the overlay on every surface.
 """
 import time
 
@@ -46,8 +51,12 @@ class LuxJob(BackgroundJob):
     thread_name = "spectral-gi-lux"
     on_progress = None  # optional method (done, total) called on the worker thread after each batch
 
-    def __init__(self, scene, tasks, threads=0, luminaires=()):
+    def __init__(self, scene, tasks, threads=0, luminaires=(), method="PATH", max_edge=None):
         super().__init__()
+        self.method = method
+        self.max_edge = max_edge or None
+        self.radiosity = None  # the core.RadiositySolution of a radiosity job
+        self.radiosity_warnings = []  # what the solve approximated (non-diffuse materials, ...)
         self.scene = scene
         self.tasks = list(tasks)
         self.threads = int(threads) if threads else None
@@ -60,6 +69,8 @@ class LuxJob(BackgroundJob):
     # ------------------------------------------------------------------ worker (any thread)
 
     def _run(self):
+        if self.method == "RADIOSITY":
+            return self._run_radiosity()
         t0 = time.monotonic()
         try:
             from ..core import point_illuminance, unlit_points
@@ -91,6 +102,53 @@ class LuxJob(BackgroundJob):
             self.seconds = time.monotonic() - t0
             self.finished = True
 
+    def _run_radiosity(self):
+        t0 = time.monotonic()
+        try:
+            import warnings
+
+            import numpy as np
+
+            from ..core import radiosity, radiosity_illuminance, unlit_points
+            from ..core.integrators.radiosity import solve
+
+            opts = dict(solve.LUX_DEFAULTS, threads=self.threads,
+                        max_edge=self.max_edge or solve.default_max_edge(self.scene))
+
+            def stage(name, a, b):
+                if name == "patches":
+                    STATE.phase = f"Radiosity: {a} patches"
+                elif name == "form factors":
+                    STATE.phase = "Radiosity: form factors"
+                    STATE.done, STATE.total = int(a), int(b)
+                elif name == "solve":
+                    STATE.phase = f"Radiosity: iteration {a}, residual {b:.2g}"
+                STATE.rate = STATE.done / max(time.monotonic() - t0, 1e-9)
+                if self.on_progress is not None:
+                    self.on_progress(STATE.done, max(STATE.total, 1))
+
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")  # kept in the solution and reported by the operator
+                sol = radiosity(self.scene, progress=stage, should_cancel=self.should_cancel, **opts)
+            if self.cancel_requested or any(st.cancelled for st in sol.stats):
+                return
+            self.radiosity_warnings = list(sol.warnings)
+            for task in self.tasks:
+                if self.cancel_requested:
+                    return
+                STATE.phase = f"Radiosity: gathering on {task.name}"
+                s = task.surface
+                e = radiosity_illuminance(sol, s.points, s.normals)
+                se = np.zeros_like(e)
+                self.results[task.name] = (e, se, np.zeros(e.shape, np.int64))
+                self.unlit[task.name] = unlit_points(self.scene, s.points, s.normals, e, se)
+            self.radiosity = sol
+        except Exception as exc:  # reported by the operator on the main thread
+            self._capture(exc)
+        finally:
+            self.seconds = time.monotonic() - t0
+            self.finished = True
+
     # ------------------------------------------------------------------ main thread
 
     def _total(self):
@@ -112,4 +170,5 @@ class LuxJob(BackgroundJob):
         if self.cancelled:
             return f"Cancelled after {self.seconds:.1f} s; the earlier results are kept"
         n = sum(t.surface.n_points for t in self.tasks)
-        return f"{len(self.tasks)} surface(s), {n} points in {self.seconds:.1f} s"
+        how = f" by radiosity ({self.radiosity.patches.n} patches)" if self.radiosity is not None else ""
+        return f"{len(self.tasks)} surface(s), {n} points{how} in {self.seconds:.1f} s"

@@ -52,8 +52,8 @@ from .lights.sky import Daylight, blender_sky, preetham_sky
 from .integrators.sensors import has_sensors, illuminance_image, illuminance_stats, render_illuminance
 # radiosity for diffuse scenes (compendium items 53, 55–62)
 from .integrators.radiosity import (
-    RadiositySolution, differential_form_factor, element_form_factors, form_factor_point_polygon,
-    form_factor_polygon_polygon, radiosity)
+    RadiositySolution, differential_form_factor, element_form_factors, final_gather, form_factor_point_polygon,
+    form_factor_polygon_polygon, radiosity, render_radiosity)
 from .integrators.radiosity import illuminance_at as radiosity_illuminance
 from .integrators.radiosity import lux_integrator as radiosity_lux_integrator
 
@@ -86,6 +86,7 @@ __all__ = [
     "semicylindrical_illuminance", "unlit_points",
     "radiosity", "RadiositySolution", "radiosity_illuminance", "form_factor_point_polygon",
     "form_factor_polygon_polygon", "element_form_factors", "differential_form_factor", "radiosity_lux_integrator",
+    "final_gather", "render_radiosity",
 ]
 
 # lux and cd/m² at points (core/integrators/illuminance.py), imported on first use: the module

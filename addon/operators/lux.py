@@ -2,7 +2,9 @@
 
 Calculate Illuminance and Lighting Report export the scene on the main thread, calculate on a
 worker thread (``lux_job``: progress in the status bar and the panel, Esc cancels) and store
-the results on the main thread: the statistics in ``Object.spectral_gi_lux``, the per-point
+the results on the main thread (by the path tracer, or with Method Radiosity from one radiosity solution
+of the scene, which also gets a false-colour overlay on every surface, see ``radiosity_overlay``):
+the statistics in ``Object.spectral_gi_lux``, the per-point
 values and the surface in an ID property of the object (so reports can be written after the
 .blend is reopened), the false colours as a colour attribute with a material that shows them,
 and the plan and report page as packed images. In the background (scripts, ``bpy`` as a
@@ -184,14 +186,14 @@ RESULT_KEY = "_spectral_gi_lux_result"  # ID property: the surface, per-point va
 PLAN_SIZE = 512  # px, the longer side of the false-colour plan image
 
 
-def store_result(obj, surface, lux0, se, used, luminaires=(), unlit=None):
+def store_result(obj, surface, lux0, se, used, luminaires=(), unlit=None, method="PATH"):
     """The statistics into obj.spectral_gi_lux, the surface and its values into an ID property (both saved
     with the .blend), the false colours on the mesh and the plan image. ``unlit``: the dict of
     ``core.unlit_points(...).to_dict()`` (kept for the report). Returns the statistics."""
     from ...core import lux
 
     samples = int(used.max())
-    st = lux.statistics(surface, lux0, se, samples=samples)
+    st = lux.statistics(surface, lux0, se, samples=samples or None)  # radiosity: no samples
     s = obj.spectral_gi_lux
     s.mean, s.minimum, s.maximum = st.mean, st.minimum, st.maximum
     s.u0, s.ud = st.u0 or 0.0, st.ud or 0.0
@@ -206,7 +208,8 @@ def store_result(obj, surface, lux0, se, used, luminaires=(), unlit=None):
     s.unlit_points = 0 if unlit is None else int(unlit["count"])
     obj[RESULT_KEY] = {"surface": json.dumps(surface.to_dict()), "lux": [float(x) for x in lux0],
                        "std_error": [float(x) for x in se], "samples": samples,
-                       "luminaires": json.dumps(list(luminaires)), "unlit": json.dumps(unlit)}
+                       "luminaires": json.dumps(list(luminaires)), "unlit": json.dumps(unlit),
+                       "method": "radiosity" if method == "RADIOSITY" else "path"}
     apply_overlay(obj, surface, lux0)
     s.valid = True
     return st
@@ -231,6 +234,15 @@ def saved_unlit(obj):
         return None if d is None or "unlit" not in d else json.loads(d["unlit"])
     except (TypeError, ValueError):
         return None
+
+
+def saved_method(obj):
+    """"path" or "radiosity": how the object's last result was calculated."""
+    d = obj.get(RESULT_KEY)
+    try:
+        return "path" if d is None or "method" not in d else str(d["method"])
+    except (TypeError, ValueError):
+        return "path"
 
 
 def saved_result(obj):
@@ -321,8 +333,17 @@ def write_report(context, obj, folder):
     date = datetime.date.today().isoformat()
     os.makedirs(folder, exist_ok=True)
     lux.write_surface_csv(stem + ".csv", surface, e, se)
-    lux.write_summary_json(stem + ".json", surface, e, se, samples=spp, luminaires=luminaires, project=project,
-                           date=date, unlit=saved_unlit(obj))
+    summary = lux.write_summary_json(stem + ".json", surface, e, se, samples=spp or None, luminaires=luminaires,
+                                     project=project, date=date, unlit=saved_unlit(obj))
+    method = saved_method(obj)
+    if method == "radiosity":  # the summary says how its values were computed
+        from ...core import atomic_path
+
+        summary["method"] = method
+        summary["note"] = ("radiosity: diffuse surfaces only (other materials replaced by their diffuse albedo); "
+                           "standard errors 0, the error is the mesh's")
+        with atomic_path(stem + ".json") as tmp:
+            tmp.write_text(json.dumps(summary, indent=2, allow_nan=False) + "\n", encoding="utf-8")
     written = [stem + ".csv", stem + ".json"]
     s = obj.spectral_gi_lux
     if s.plan_image is not None:
@@ -331,7 +352,7 @@ def write_report(context, obj, folder):
     img = None
     if has_matplotlib():
         options = overlay_options(s, e * surface.maintenance_factor)
-        lux.render_report(surface, e, se, samples=spp, luminaires=luminaires, project=project, date=date,
+        lux.render_report(surface, e, se, samples=spp or None, luminaires=luminaires, project=project, date=date,
                           png_path=stem + ".png", pdf_path=stem + ".pdf", **options)
         written += [stem + ".png", stem + ".pdf"]
         old = bpy.data.images.get(f"{obj.name} lux report")
@@ -349,6 +370,173 @@ def _show(context, img):
         from ..imageio import show_in_image_editors
 
         show_in_image_editors(img, context.window_manager)
+
+
+# ----------------------------------------------------------------------------- the radiosity overlay
+
+RADIOSITY_SUFFIX = " radiosity"  # the overlay object of mesh <name> is "<name> radiosity"
+RADIOSITY_KEY = "_spectral_gi_radiosity"  # ID property of the overlay object: its per-vertex lx and cd/m²
+RADIOSITY_OFFSET = 1e-3  # m, the overlay sits this far in front of its surface (no z-fighting)
+
+
+def mesh_patches(solution, core_scene):
+    """{mesh index: patch indices} of a radiosity solution: each patch's scene triangle
+    (``patches.source``, the meshes' triangles concatenated) back to its mesh."""
+    import numpy as np
+
+    counts = np.array([m.indices.shape[0] for m in core_scene.meshes], np.int64)
+    mesh_of = np.searchsorted(np.cumsum(counts), solution.patches.source, side="right")
+    return {int(m): np.nonzero(mesh_of == m)[0] for m in np.unique(mesh_of)}
+
+
+def overlay_mesh(solution, patch_idx, values):
+    """The display mesh of the patches ``patch_idx``: (positions (V, 3) m, each vertex moved
+    RADIOSITY_OFFSET along its patch's normal; faces (F, 3) into them; the per-vertex
+    ``values`` (V,), taken from the solution's welded display mesh (the area-weighted mean
+    of the patches meeting at a vertex with the same side and normal))."""
+    import numpy as np
+
+    faces = solution.mesh.faces[patch_idx]
+    used, inv = np.unique(faces.reshape(-1), return_inverse=True)
+    pos = solution.mesh.positions[used].astype(np.float64)
+    nrm = np.zeros_like(pos)
+    np.add.at(nrm, inv, np.repeat(solution.patches.normal[patch_idx], 3, axis=0))
+    nrm /= np.maximum(np.linalg.norm(nrm, axis=1, keepdims=True), 1e-300)
+    return pos + RADIOSITY_OFFSET * nrm, inv.reshape(-1, 3), np.asarray(values, np.float64)[used]
+
+
+def radiosity_values(solution, quantity):
+    return solution.vertex_luminance if quantity == "LUMINANCE" else solution.vertex_illuminance
+
+
+def _remove_overlay(scene):
+    r = scene.spectral_gi_radiosity
+    for name in filter(None, r.objects.split("\n")):
+        old = bpy.data.objects.get(name)
+        if old is not None and RADIOSITY_KEY in old:
+            me = old.data
+            bpy.data.objects.remove(old, do_unlink=True)
+            if me is not None and me.users == 0:
+                bpy.data.meshes.remove(me)
+    r.objects = ""
+
+
+def store_radiosity(scene, solution, core_scene, warnings=()):
+    """The radiosity overlay (main thread): one object "<mesh> radiosity" per mesh of the solved
+    scene, the mesh's patches with per-vertex false colours (the display mesh's values,
+    see ``overlay_mesh``), each object keeping its per-vertex illuminance and luminance (so
+    the overlay can be recoloured after the .blend is reopened). Replaces the earlier
+    overlay. Returns the objects' names."""
+    import numpy as np
+
+    _remove_overlay(scene)
+    r = scene.spectral_gi_radiosity
+    scale = scene.unit_settings.scale_length or 1.0
+    names = []
+    for m, idx in mesh_patches(solution, core_scene).items():
+        if idx.size == 0:
+            continue
+        pos, faces, lux_v = overlay_mesh(solution, idx, solution.vertex_illuminance)
+        _, _, lum_v = overlay_mesh(solution, idx, solution.vertex_luminance)
+        name = core_scene.meshes[m].name + RADIOSITY_SUFFIX
+        old = bpy.data.objects.get(name)
+        if old is not None:
+            bpy.data.objects.remove(old, do_unlink=True)
+        me = bpy.data.meshes.new(name)
+        me.vertices.add(pos.shape[0])
+        me.vertices.foreach_set("co", np.ascontiguousarray(pos / scale, np.float32).ravel())
+        me.loops.add(faces.size)
+        me.loops.foreach_set("vertex_index", np.ascontiguousarray(faces, np.int32).ravel())
+        me.polygons.add(faces.shape[0])
+        me.polygons.foreach_set("loop_start", np.arange(0, faces.size, 3, dtype=np.int32))
+        me.polygons.foreach_set("loop_total", np.full(faces.shape[0], 3, np.int32))
+        me.update()
+        me.validate()
+        me.materials.append(_material())
+        obj = bpy.data.objects.new(name, me)
+        obj.hide_render = True  # a result display, not part of the lit scene
+        obj[RADIOSITY_KEY] = {"lux": lux_v.astype(np.float32).tolist(), "luminance": lum_v.astype(np.float32).tolist()}
+        src = bpy.data.objects.get(core_scene.meshes[m].name)
+        for coll in (src.users_collection if src is not None else ()) or (scene.collection,):
+            coll.objects.link(obj)
+        names.append(name)
+    r.objects = "\n".join(names)
+    r.patches = int(solution.patches.n)
+    r.warning = "; ".join(warnings)
+    recolour_radiosity(scene)
+    return names
+
+
+def recolour_radiosity(scene):
+    """Colour the radiosity overlay objects by the scene's overlay settings (quantity, range,
+    steps, scale): the same false colours (core/lux/falsecolour.py) and range rules as a
+    calculation surface's. Returns (vmin, vmax) or None without an overlay."""
+    import numpy as np
+
+    from ...core.lux import falsecolour as fc
+
+    r = scene.spectral_gi_radiosity
+    key = "luminance" if r.quantity == "LUMINANCE" else "lux"
+    objs = [o for o in (bpy.data.objects.get(n) for n in filter(None, r.objects.split("\n")))
+            if o is not None and RADIOSITY_KEY in o]
+    if not objs:
+        return None
+    values = {o.name: np.asarray(o[RADIOSITY_KEY][key], np.float64) for o in objs}
+    s = scene.spectral_gi_radiosity_scale
+    options = overlay_options(s, np.concatenate(list(values.values())))
+    s.scale_min, s.scale_max = options["vmin"], options["vmax"]
+    for o in objs:
+        rgba = np.ones((values[o.name].size, 4), np.float32)
+        rgba[:, :3] = fc.srgb_to_linear(fc.false_colour(values[o.name], **options))
+        me = o.data
+        if ATTRIBUTE in me.color_attributes:
+            me.color_attributes.remove(me.color_attributes[ATTRIBUTE])
+        attr = me.color_attributes.new(ATTRIBUTE, "FLOAT_COLOR", "POINT")
+        attr.data.foreach_set("color", np.ascontiguousarray(rgba).ravel())
+        me.color_attributes.active_color = attr
+        o.hide_viewport = not r.overlay
+    s.valid = True
+    return options["vmin"], options["vmax"]
+
+
+def radiosity_legend(scene):
+    """The overlay's legend: (colour (r, g, b) sRGB, label) per step from the bottom up, in the
+    quantity's unit; [] without an overlay."""
+    import numpy as np
+
+    from ...core.lux import falsecolour as fc
+
+    r = scene.spectral_gi_radiosity
+    s = scene.spectral_gi_radiosity_scale
+    if not r.objects or not s.valid or not s.scale_max > s.scale_min:
+        return []
+    unit = "cd/m²" if r.quantity == "LUMINANCE" else "lx"
+    scale = "log" if s.scale_log else "linear"
+    levels = fc.legend_levels(s.scale_min, s.scale_max, int(s.scale_steps), scale)
+    mid = np.sqrt(levels[:-1] * levels[1:]) if scale == "log" else 0.5 * (levels[:-1] + levels[1:])
+    colours = fc.false_colour(mid, s.scale_min, s.scale_max, int(s.scale_steps), scale)
+    return [(tuple(float(x) for x in c), f"{fc.format_value(a)} – {fc.format_value(b)} {unit}")
+            for c, a, b in zip(colours, levels[:-1], levels[1:])]
+
+
+class SPECTRALGI_OT_radiosity_recolour(bpy.types.Operator):
+    """Colour the radiosity overlay again with the current quantity, range and steps (no new solve)"""
+
+    bl_idname = "spectral_gi.radiosity_recolour"
+    bl_label = "Update Radiosity Overlay"
+    bl_options = {"REGISTER", "UNDO"}
+
+    def execute(self, context):
+        try:
+            got = recolour_radiosity(context.scene)
+        except LuxInputError as exc:
+            self.report({"ERROR"}, f"Spectral GI: {exc}")
+            return {"CANCELLED"}
+        if got is None:
+            self.report({"ERROR"}, "Spectral GI: no radiosity overlay: Calculate Illuminance with Method Radiosity")
+            return {"CANCELLED"}
+        _redraw(context)
+        return {"FINISHED"}
 
 
 # ----------------------------------------------------------------------------- the job, shared by the operators
@@ -371,8 +559,11 @@ def prepare_job(context, objects):
         tasks.append(lux_job.SurfaceTask(o.name, build_surface(o), s.samples, s.rel_error or None))
     exported = export_scene(context.evaluated_depsgraph_get(), context.scene)
     settings = getattr(context.scene, "spectral_gi", None)
+    method = context.scene.spectral_gi_lux_method
+    scale = context.scene.unit_settings.scale_length or 1.0
     job = lux_job.LuxJob(exported.scene, tasks, threads=getattr(settings, "threads", 0),
-                         luminaires=luminaire_schedule(exported.scene))
+                         luminaires=luminaire_schedule(exported.scene), method=method,
+                         max_edge=float(context.scene.spectral_gi_radiosity.max_edge) * scale or None)
     job.warning = exported.warning
     return job
 
@@ -387,9 +578,12 @@ def store_job(job):
         e, se, used = job.results[task.name]
         unlit = job.unlit.get(task.name)
         st = store_result(obj, task.surface, e, se, used, job.luminaires,
-                          None if unlit is None else unlit.to_dict())
+                          None if unlit is None else unlit.to_dict(), method=job.method)
         u0 = "–" if st.u0 is None else f"{st.u0:.2f}"
         out.append(f"{obj.name}: Ē {st.mean:.4g} lx, Emin {st.minimum:.4g} lx, U0 {u0} ({st.n_points} points)")
+    if job.radiosity is not None:
+        names = store_radiosity(bpy.context.scene, job.radiosity, job.scene, job.radiosity_warnings)
+        out.append(f"radiosity: {job.radiosity.patches.n} patches, false colours on {len(names)} object(s)")
     return out
 
 
@@ -462,6 +656,8 @@ class _LuxJobOperator(ModalJobOperator):
             self.report({"INFO"}, "Spectral GI: " + line)
         for line in unlit_warnings(job):
             self.report({"WARNING"}, "Spectral GI: " + line)
+        for line in job.radiosity_warnings:
+            self.report({"WARNING"}, "Spectral GI: radiosity: " + line)
         lux_job.STATE.message = job.summary()
         _redraw(context)
         return {"FINISHED"}
@@ -485,7 +681,7 @@ class SPECTRALGI_OT_lux_calculate(_LuxJobOperator, bpy.types.Operator):
         obj = context.active_object
         objects = marked_objects(context.scene) if self.all_surfaces or obj is None else [obj]
         objects = [o for o in objects if o.type == "MESH" and o.spectral_gi_lux.enabled]
-        if not objects:
+        if not objects and context.scene.spectral_gi_lux_method != "RADIOSITY":  # radiosity: the overlay alone
             raise LuxInputError("no calculation surface (mark a mesh in Object properties, or Add Work Plane)")
         return objects
 
@@ -778,4 +974,5 @@ class SPECTRALGI_OT_lux_show_image(bpy.types.Operator):
 
 
 classes = (SPECTRALGI_OT_lux_calculate, SPECTRALGI_OT_lux_add_workplane, SPECTRALGI_OT_lux_export_report,
-           SPECTRALGI_OT_lux_recolour, SPECTRALGI_OT_lux_report, SPECTRALGI_OT_lux_show_image)
+           SPECTRALGI_OT_lux_recolour, SPECTRALGI_OT_lux_report, SPECTRALGI_OT_lux_show_image,
+           SPECTRALGI_OT_radiosity_recolour)

@@ -87,7 +87,33 @@ class SpectralGILuxSurface(bpy.types.PropertyGroup):
                                   description="Name of the object carrying the false colours (no unit)")
 
 
-classes = (SpectralGILuxSurface,)
+METHODS = [("PATH", "Path Tracing", "The path tracer at every calculation point (every material)"),
+           ("RADIOSITY", "Radiosity", "A radiosity solution of the whole scene (diffuse only: other materials "
+                                      "are replaced by their diffuse albedo, with a warning); the points gather "
+                                      "direct light exactly and the solution for the rest, and every surface gets a "
+                                      "false-colour overlay")]
+QUANTITIES = [("ILLUMINANCE", "Illuminance", "Light arriving at each surface, in lx"),
+              ("LUMINANCE", "Luminance", "Light leaving each surface towards the eye, in cd/m²")]
+
+
+class SpectralGIRadiosity(bpy.types.PropertyGroup):
+    """The scene's radiosity settings and its overlay on every surface (Scene.spectral_gi_radiosity)."""
+
+    max_edge: FloatProperty(name="Patch Size", default=0.0, min=0.0, soft_max=5.0, unit="LENGTH",
+                            description="Longest edge of a radiosity patch, in metres (0: automatic, about 2500 "
+                                        "patches)")
+    quantity: EnumProperty(name="Overlay", items=QUANTITIES, default="ILLUMINANCE",
+                           description="What the radiosity overlay on every surface shows")
+    overlay: BoolProperty(name="Show Overlay", default=True,
+                          description="Show the radiosity result as false colours on every surface (on/off)")
+    patches: IntProperty(name="Patches", default=0, description="Patches of the last radiosity solve (a count)")
+    objects: StringProperty(name="Overlay Objects", default="",
+                            description="Names of the objects carrying the radiosity overlay, one per line")
+    warning: StringProperty(name="Warning", default="",
+                            description="What the last radiosity solve approximated (text)")
+
+
+classes = (SpectralGILuxSurface, SpectralGIRadiosity)
 PROPERTY = "spectral_gi_lux"
 
 
@@ -104,14 +130,25 @@ def register_properties():
     bpy.types.Scene.spectral_gi_workplane_band = FloatProperty(
         name="Band", default=0.5, min=0.0, soft_max=2.0, unit="LENGTH",
         description="Width of the band along the walls left out of a new work plane, in metres")
+    bpy.types.Scene.spectral_gi_lux_method = EnumProperty(
+        name="Method", items=METHODS, default="PATH",
+        description="How Calculate Illuminance and Lighting Report compute the illuminance")
+    bpy.types.Scene.spectral_gi_radiosity = bpy.props.PointerProperty(
+        type=SpectralGIRadiosity, name="Radiosity", description="Radiosity settings and overlay")
+    # the overlay's false-colour range: the same settings as a calculation surface's
+    bpy.types.Scene.spectral_gi_radiosity_scale = bpy.props.PointerProperty(
+        type=SpectralGILuxSurface, name="Radiosity Overlay Range",
+        description="False-colour range of the radiosity overlay (lx, or cd/m² for luminance)")
     bpy.types.Scene.spectral_gi_report_dir = StringProperty(
         name="Report Folder", default="", subtype="DIR_PATH",
         description="Folder for the lux reports (a path; empty: beside the .blend file, or the temporary folder)")
 
 
 def unregister_properties():
-    for owner, name in ((bpy.types.Scene, "spectral_gi_report_dir"), (bpy.types.Scene, "spectral_gi_workplane_height"),
-                        (bpy.types.Scene, "spectral_gi_use_band"), (bpy.types.Scene, "spectral_gi_workplane_band"),
+    for owner, name in ((bpy.types.Scene, "spectral_gi_lux_method"), (bpy.types.Scene, "spectral_gi_radiosity"),
+                        (bpy.types.Scene, "spectral_gi_radiosity_scale"), (bpy.types.Scene, "spectral_gi_report_dir"),
+                        (bpy.types.Scene, "spectral_gi_workplane_height"), (bpy.types.Scene, "spectral_gi_use_band"),
+                        (bpy.types.Scene, "spectral_gi_workplane_band"),
                         (bpy.types.Object, PROPERTY)):
         if hasattr(owner, name):
             delattr(owner, name)

@@ -49,6 +49,37 @@ def _overlay(layout, s):
     col.prop(s, "scale_steps")
 
 
+def radiosity_settings(layout, scene):
+    """The method choice and, with Radiosity, its patch size, overlay, range and legend."""
+    from ..operators.lux import radiosity_legend
+
+    col = layout.column()
+    col.use_property_split = True
+    col.use_property_decorate = False
+    col.prop(scene, "spectral_gi_lux_method")
+    if scene.spectral_gi_lux_method != "RADIOSITY":
+        return
+    r = scene.spectral_gi_radiosity
+    box = layout.box()
+    box.label(text="Radiosity (diffuse surfaces only)", icon="LIGHT_AREA")
+    sub = box.column()
+    sub.use_property_split = True
+    sub.use_property_decorate = False
+    sub.prop(r, "max_edge")
+    sub.prop(r, "quantity")
+    sub.prop(r, "overlay")
+    _overlay(box, scene.spectral_gi_radiosity_scale)
+    if r.objects:
+        box.label(text=f"{r.patches} patches, overlay on {len(r.objects.splitlines())} object(s)", icon="COLOR")
+        legend = box.column(align=True)
+        for k, (_colour, label) in reversed(list(enumerate(radiosity_legend(scene)))):
+            legend.label(text=f"step {k + 1}: {label}")
+        box.operator("spectral_gi.radiosity_recolour", icon="COLOR")
+    if r.warning:
+        for line in r.warning.split("; "):
+            box.label(text=line, icon="ERROR")
+
+
 def _images(layout, s):
     row = layout.row(align=True)
     for img, label, icon in ((s.plan_image, "Show Plan", "IMAGE_DATA"), (s.report_image, "Show Report", "FILE_IMAGE")):
@@ -90,6 +121,7 @@ class SPECTRALGI_PT_lux(bpy.types.Panel):
         sub.prop(s, "samples")
         sub.prop(s, "rel_error")
         _overlay(sub, s)
+        radiosity_settings(layout, context.scene)
         row = layout.row(align=True)
         row.operator("spectral_gi.lux_calculate", icon="LIGHT_SUN")
         row.operator("spectral_gi.lux_add_workplane", icon="MESH_GRID")
@@ -134,6 +166,7 @@ class SPECTRALGI_PT_lux_view3d(bpy.types.Panel):
 
         layout = self.layout
         layout.operator("spectral_gi.lux_report", icon="DOCUMENTS")
+        radiosity_settings(layout, context.scene)
         row = layout.row(align=True)
         row.operator("spectral_gi.lux_calculate", icon="LIGHT_SUN")
         row.operator("spectral_gi.lux_add_workplane", icon="MESH_GRID")

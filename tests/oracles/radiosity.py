@@ -52,3 +52,35 @@ def rect_light_irradiance(p, n, corners, radiance):
     """Irradiance π L F_{dA→rect} of a uniform Lambertian rectangle (corners counter-clockwise
     seen from its emitting side), unoccluded."""
     return math.pi * radiance * form_factor_point_polygon(p, n, corners)
+
+
+def first_patches(patches, origins, directions):
+    """OP_CAMERA / OP_GATHER by brute force: for each ray the patch it reaches first (the
+    front or back patch of the closest geometry triangle, by the side the ray meets; -1
+    none) and the barycentric coordinates (b1, b2) of the hit on the patch's corners."""
+    g = np.asarray(patches.geometry, np.float64)
+    origins = np.asarray(origins, np.float64)
+    directions = np.asarray(directions, np.float64)
+    t, tri = brute_force_closest(g[:, 0], g[:, 1], g[:, 2], origins, directions)
+    out = np.zeros((origins.shape[0], 3))
+    out[:, 0] = -1
+    for k in np.nonzero(tri >= 0)[0]:
+        gn = np.cross(g[tri[k], 1] - g[tri[k], 0], g[tri[k], 2] - g[tri[k], 0])
+        j = patches.tri_patch[tri[k], 0 if directions[k] @ gn < 0 else 1]
+        if j < 0:
+            continue
+        c = patches.corners[j]
+        e1, e2 = c[1] - c[0], c[2] - c[0]
+        w = origins[k] + t[k] * directions[k] - c[0]
+        m = np.array([[e1 @ e1, e1 @ e2], [e1 @ e2, e2 @ e2]])
+        out[k] = (j, *np.linalg.solve(m, [w @ e1, w @ e2]))
+    return out
+
+
+def gauss_seidel_sweep(F, rho, E, B):
+    """One Gauss–Seidel sweep of B = E + ρ F B, row by row in Python (item 61)."""
+    F = np.asarray(F, np.float64)
+    B = np.array(B, np.float64)
+    for i in range(F.shape[0]):
+        B[i] = E[i] + rho[i] * (F[i] @ B)
+    return B

@@ -17,7 +17,16 @@ one of three loops over rows of receivers (points with a normal):
   irradiance from a constant sky of radiance 1;
 * OP_SHOOT: hits[k] = the patch that ray k, leaving a uniform point of patch src[k] in a
   cosine-distributed direction about its normal, reaches first (-1: none, or a side that
-  is not a patch): the step of the stochastic shooting solver.
+  is not a patch): the step of the stochastic shooting solver;
+* OP_CAMERA: row r is pixel own[r] of a cols[0] × cols[1] image; n_vis camera rays
+  through it (core/camera/kernel.py ``camera_ray``, the path tracer's camera and pixel
+  filter) find the patch each reaches first: out[r, 3s:3s+3] = (patch, b1, b2) of ray s,
+  the patch (-1: none) and the barycentric coordinates of the hit on its corners
+  v0 + b1 e1 + b2 e2: the first hits of the final gather;
+* OP_GATHER: row r is a point pts[r, 0] on a patch with normal nrm[r] (key own[r]); n_vis
+  cosine-distributed gather rays from it (stratified, a scrambled (0, 2)-net) find the
+  patch each reaches first: out[r, 3s:3s+3] = (patch, b1, b2) as for OP_CAMERA: the
+  final gather's reading of the solution.
 
 Random numbers are a pure function of (seed, row, sample point, column, ray), the row being
 the receiver's own patch where it has one, so results do not depend on threads or on how
@@ -34,6 +43,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ...camera.kernel import camera_ray
 from ...jit import function, inline, kernel
 from ...geometry.bvh import trace_closest, trace_occluded
 from ...lights.kernel import sample_light
@@ -43,6 +53,8 @@ from ...sampling.warps import sample_cosine_hemisphere, sample_triangle_area
 OP_FORM_FACTORS = 0
 OP_DIRECT = 1
 OP_SHOOT = 2
+OP_CAMERA = 3
+OP_GATHER = 4
 
 INV_TWO_PI = 0.5 / math.pi
 
@@ -76,14 +88,19 @@ class PatchRecord(NamedTuple):
 
 class QueryRecord(NamedTuple):
     """R receivers: pts float64 (R, K, 3) sample points, nrm float64 (R, 3) unit normals,
-    own int32 (R,) the receiver's own patch (skipped; -1 none), cols int32 (C,) the patches
-    of OP_FORM_FACTORS' columns, src int32 (N,) the source patch of each ray of OP_SHOOT."""
+    own int32 (R,) the receiver's own patch (skipped; -1 none; OP_CAMERA: the pixel; OP_GATHER:
+    the key of its random numbers), cols int32 (C,) the patches of OP_FORM_FACTORS' columns
+    (OP_CAMERA: the image's width and height), src int32 (N,) the source patch of each ray
+    of OP_SHOOT, cam and filt float64 the camera vector and pixel-filter distribution
+    (core/camera/record.py) of OP_CAMERA."""
 
     pts: np.ndarray
     nrm: np.ndarray
     own: np.ndarray
     cols: np.ndarray
     src: np.ndarray
+    cam: np.ndarray
+    filt: np.ndarray
 
 
 class LightRecord(NamedTuple):
@@ -292,11 +309,83 @@ def _shoot_ray(pat, qry, k, seed, eps, hits, stack):
     hits[k] = pat.tri_patch[prim, side]
 
 
+@inline
+def _hit_record(pat, ox, oy, oz, dx, dy, dz, eps, out, r, col, stack):
+    """Trace the ray (o, d) to the first patch and write (patch, b1, b2) into out[r, col:col+3]
+    (patch -1 when the ray leaves or reaches a side that is not a patch)."""
+    t, prim, _bu, _bv = trace_closest(ox, oy, oz, dx, dy, dz, 0.0, np.inf, pat.nodes, pat.tris, stack)
+    out[r, col] = -1.0
+    out[r, col + 1] = 0.0
+    out[r, col + 2] = 0.0
+    if prim < 0:
+        return
+    side = 0 if (dx * pat.tri_nrm[prim, 0] + dy * pat.tri_nrm[prim, 1] + dz * pat.tri_nrm[prim, 2]) < 0.0 else 1
+    j = pat.tri_patch[prim, side]
+    if j < 0:
+        return
+    wx = ox + t * dx - pat.v0[j, 0]
+    wy = oy + t * dy - pat.v0[j, 1]
+    wz = oz + t * dz - pat.v0[j, 2]
+    d11 = pat.e1[j, 0] * pat.e1[j, 0] + pat.e1[j, 1] * pat.e1[j, 1] + pat.e1[j, 2] * pat.e1[j, 2]
+    d12 = pat.e1[j, 0] * pat.e2[j, 0] + pat.e1[j, 1] * pat.e2[j, 1] + pat.e1[j, 2] * pat.e2[j, 2]
+    d22 = pat.e2[j, 0] * pat.e2[j, 0] + pat.e2[j, 1] * pat.e2[j, 1] + pat.e2[j, 2] * pat.e2[j, 2]
+    w1 = wx * pat.e1[j, 0] + wy * pat.e1[j, 1] + wz * pat.e1[j, 2]
+    w2 = wx * pat.e2[j, 0] + wy * pat.e2[j, 1] + wz * pat.e2[j, 2]
+    den = d11 * d22 - d12 * d12
+    b1 = (d22 * w1 - d12 * w2) / den if den > 0.0 else 0.0
+    b2 = (d11 * w2 - d12 * w1) / den if den > 0.0 else 0.0
+    # a hit in the geometry triangle lies in its patch: clamp rounding to the triangle
+    b1 = min(max(b1, 0.0), 1.0)
+    b2 = min(max(b2, 0.0), 1.0 - b1)
+    out[r, col] = float(j)
+    out[r, col + 1] = b1
+    out[r, col + 2] = b2
+
+
+@function
+def _camera_row(pat, qry, r, n_vis, seed, eps, out, stack):
+    pix = qry.own[r]
+    w = qry.cols[0]
+    h = qry.cols[1]
+    x = pix % w
+    y = pix // w
+    for s in range(n_vis):
+        key = _seed(seed, pix, s, 11)
+        ox, oy, oz, dx, dy, dz = camera_ray(qry.cam, qry.filt, x, y, w, h, uniform(key, 0), uniform(key, 1),
+                                            uniform(key, 2), uniform(key, 3))
+        if dx == 0.0 and dy == 0.0 and dz == 0.0:  # a fisheye's pixel outside its image circle
+            out[r, 3 * s] = -1.0
+            out[r, 3 * s + 1] = 0.0
+            out[r, 3 * s + 2] = 0.0
+            continue
+        _hit_record(pat, ox, oy, oz, dx, dy, dz, eps, out, r, 3 * s, stack)
+
+
+@function
+def _gather_row(pat, qry, r, n_vis, seed, eps, out, stack):
+    nx = qry.nrm[r, 0]
+    ny = qry.nrm[r, 1]
+    nz = qry.nrm[r, 2]
+    ox = qry.pts[r, 0, 0] + eps * nx
+    oy = qry.pts[r, 0, 1] + eps * ny
+    oz = qry.pts[r, 0, 2] + eps * nz
+    tx, ty, tz, bx, by, bz = _frame(nx, ny, nz)
+    ps = _seed(seed, qry.own[r], 13, 17)
+    for s in range(n_vis):
+        u, v = sobol_pair_both(np.uint64(s), ps, np.uint64(2))
+        lx, ly, lz, _pdf = sample_cosine_hemisphere(u, v)
+        wx = lx * tx + ly * bx + lz * nx
+        wy = lx * ty + ly * by + lz * ny
+        wz = lx * tz + ly * bz + lz * nz
+        _hit_record(pat, ox, oy, oz, wx, wy, wz, eps, out, r, 3 * s, stack)
+
+
 @kernel(refcount=False)
 def radiosity_rays(op, r0, r1, pat, qry, lit, n_vis, seed, eps, out, hits, poly, stack):
     """Rows r0 .. r1-1 of operation ``op`` (OP_*, see the module text) into ``out`` (float64
     (R, C)) or, for OP_SHOOT, rays r0 .. r1-1 into ``hits`` (int32 (N,)). pat, qry, lit: the
-    records above; n_vis: shadow rays per (point, patch) pair, or light samples per point;
+    records above; n_vis: shadow rays per (point, patch) pair, light samples per point, or
+    camera or gather rays per row;
     seed: the RNG seed; eps: the ray offset, m; poly: float64 (8, 3) and stack: int32
     (STACK_SIZE,) scratch of the calling thread."""
     for r in range(r0, r1):
@@ -304,5 +393,9 @@ def radiosity_rays(op, r0, r1, pat, qry, lit, n_vis, seed, eps, out, hits, poly,
             _form_factor_row(pat, qry, r, n_vis, seed, eps, out, poly, stack)
         elif op == OP_DIRECT:
             _direct_row(pat, qry, lit, r, n_vis, seed, eps, out, stack)
+        elif op == OP_CAMERA:
+            _camera_row(pat, qry, r, n_vis, seed, eps, out, stack)
+        elif op == OP_GATHER:
+            _gather_row(pat, qry, r, n_vis, seed, eps, out, stack)
         else:
             _shoot_ray(pat, qry, r, seed, eps, hits, stack)

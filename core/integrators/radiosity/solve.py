@@ -46,6 +46,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ... import constants as C
+from ...camera.kernel import CAM_SIZE
 from ...geometry import accel
 from ...geometry.bvh import STACK_SIZE
 from ...scene import SceneError, validate
@@ -99,6 +100,7 @@ class _Context:
     n_light: int
     n_vis: int
     threads: int
+    xyz_band: np.ndarray = None  # (K, 3) ∫_band x̄, ȳ, z̄ dλ
 
 
 # ------------------------------------------------------------------------------ bands
@@ -195,11 +197,17 @@ def run_op(op, pat, qry, lit, n_out_cols, n_vis, seed, eps, threads, n_rows=None
     return hits if shoot else out
 
 
-def _query(pts, nrm, own, cols=None, src=None):
+_NO_CAMERA = np.zeros(CAM_SIZE)  # the camera vector of the ops that have none
+_NO_FILTER = np.zeros(2)
+
+
+def _query(pts, nrm, own, cols=None, src=None, cam=None, filt=None):
     return K.QueryRecord(np.ascontiguousarray(pts, np.float64), np.ascontiguousarray(nrm, np.float64),
                          np.ascontiguousarray(own, np.int32),
                          np.ascontiguousarray(np.zeros(0, np.int32) if cols is None else cols, np.int32),
-                         np.ascontiguousarray(_EMPTY_I if src is None else src, np.int32))
+                         np.ascontiguousarray(_EMPTY_I if src is None else src, np.int32),
+                         np.ascontiguousarray(_NO_CAMERA if cam is None else cam, np.float64),
+                         np.ascontiguousarray(_NO_FILTER if filt is None else filt, np.float64))
 
 
 def _no_lights():
@@ -526,7 +534,7 @@ def _solve_patches(scene, spec, cmf, patches, lit, light_bands, bidx, vw, v_band
     rho_b = rho_mb[patches.material]
     be_b = np.where(emits[:, None], be_mb[patches.material], 0.0)
     H0 = direct @ light_bands  # (n, K) W/(m² nm)
-    ctx = _Context(pat, lit, light_bands, v_band, eps, seed, n_light, n_vis, threads)
+    ctx = _Context(pat, lit, light_bands, v_band, eps, seed, n_light, n_vis, threads, xyz_band)
     if method == "stochastic":
         B, H, Hd, stats = _stochastic(ctx, patches, rho_b, be_b, H0, v_band, 64 * n if rays is None else int(rays),
                                   tol, 10000 if max_iter is None else int(max_iter), seed,

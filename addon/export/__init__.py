@@ -196,7 +196,7 @@ def export_scene(depsgraph, scene=None, should_cancel=None, mesh_cache=None, cam
     if not ctx.materials:
         ctx.default_material()
     result = Scene(meshes=meshes, spectra=ctx.spectra, materials=ctx.materials, ior_tables=ctx.ior_tables,
-                   media=ctx.media, textures=ctx.textures, lights=lights, camera=camera,
+                   media=ctx.media, textures=ctx.textures, programs=ctx.programs, lights=lights, camera=camera,
                    profiles=getattr(ctx, "profiles", []),
                    world=core_world, settings=render_settings(scene),
                    metadata={"source": "Blender " + bpy.app.version_string, "scene": scene.name,

@@ -3,6 +3,7 @@ import numpy as np
 
 from .convert import points_to_world_metres
 from .material import export_material
+from .shading import corner_attributes, program_attributes
 
 # Object types that Blender can turn into a mesh (modifiers and geometry nodes applied).
 GEOMETRY_TYPES = frozenset({"MESH", "CURVE", "SURFACE", "FONT", "META"})
@@ -142,9 +143,14 @@ def export_mesh(ctx, obj, matrix, name, cache=None, key=None):
     elif uvs is None:
         ctx.note(f"{name}: no UV map, its image textures read at UV (0, 0)")
         uvs = np.zeros((tri.shape[0] * 3, 2), np.float32)
+    attributes = None
+    names = program_attributes(ctx, set(int(k) for k in np.unique(tri_mat)))
+    if names:
+        attributes = corner_attributes(ctx, obj, name, names)
     return Mesh(name=name, positions=points_to_world_metres(matrix, co, ctx.scale_length),
                 indices=np.ascontiguousarray(tri, dtype=np.int32),
-                material=np.ascontiguousarray(tri_mat, dtype=np.int32), normals=world_normals, corner_uvs=uvs)
+                material=np.ascontiguousarray(tri_mat, dtype=np.int32), normals=world_normals, corner_uvs=uvs,
+                attributes=attributes)
 
 
 def _uses_textures(ctx, indices):

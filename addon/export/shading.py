@@ -14,7 +14,10 @@ from .nodes import linked_node
 # node settings the compiler reads (core/shading/compiler.py), where the node has them
 PROPS = ("operation", "use_clamp", "data_type", "blend_type", "clamp_factor", "clamp_result", "factor_mode",
          "clamp_type", "interpolation_type", "clamp", "mode", "vector_type", "uv_map", "attribute_name",
-         "attribute_type", "layer_name", "projection")
+         "attribute_type", "layer_name", "projection", "noise_dimensions", "noise_type", "normalize",
+         "voronoi_dimensions", "distance", "feature", "wave_type", "bands_direction", "rings_direction",
+         "wave_profile", "turbulence_depth", "offset_frequency", "squash_frequency", "offset", "squash",
+         "gradient_type")
 CURVE_TABLE_SIZE = 256
 CONSTANT_SOURCES = ("VALUE", "RGB")
 

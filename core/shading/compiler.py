@@ -384,6 +384,8 @@ def _vertex_color(c, name, nd, pr):
 def _mapping(c, name, nd, pr):
     vt = pr.get("vector_type", "POINT")
     vals = []
+    if nd["inputs"].get("Vector") is None and vt in ("POINT", "TEXTURE"):
+        nd = dict(nd, inputs=dict(nd["inputs"], Vector=(0.0, 0.0, 0.0)))
     for k, d in (("Location", (0, 0, 0)), ("Rotation", (0, 0, 0)), ("Scale", (1, 1, 1))):
         v = nd["inputs"].get(k, d)
         if _is_link(v):
@@ -599,6 +601,58 @@ def _layer_weight(c, name, nd, pr):
     return {"Fresnel": (out, "f"), "Facing": (out + 1, "f")}
 
 
+PROC_DEFAULTS = {"Scale": 5.0, "Detail": 2.0, "Roughness": 0.5, "Lacunarity": 2.0, "Offset": 0.0, "Gain": 1.0,
+                 "Distortion": 0.0, "Smoothness": 1.0, "Exponent": 0.5, "Randomness": 1.0, "Detail Scale": 1.0,
+                 "Detail Roughness": 0.5, "Phase Offset": 0.0, "Color1": (0.8, 0.8, 0.8), "Color2": (0.2, 0.2, 0.2),
+                 "Mortar": (0.0, 0.0, 0.0), "Mortar Size": 0.02, "Mortar Smooth": 0.1, "Bias": 0.0,
+                 "Brick Width": 0.5, "Row Height": 0.25}
+DIMENSIONS = {"1D": 1, "2D": 2, "3D": 3, "4D": 4}
+
+
+def _proc_settings(t, pr):
+    """The integer settings (and the brick's two float properties) of a procedural texture node."""
+    from . import procedural as T
+
+    dims = DIMENSIONS.get(pr.get("noise_dimensions", pr.get("voronoi_dimensions", "3D")), 3)
+    if t == "TEX_NOISE":
+        return [dims, T.NOISE_TYPES[pr.get("noise_type", "FBM")], int(bool(pr.get("normalize", True))), 0, 0, 0]
+    if t == "TEX_VORONOI":
+        return [dims, T.VORONOI_FEATURES[pr.get("feature", "F1")], T.VORONOI_METRICS[pr.get("distance", "EUCLIDEAN")],
+                int(bool(pr.get("normalize", False))), 0, 0]
+    if t == "TEX_WAVE":
+        return [T.WAVE_TYPES[pr.get("wave_type", "BANDS")], T.WAVE_BANDS_DIRECTIONS[pr.get("bands_direction", "X")],
+                T.WAVE_RINGS_DIRECTIONS[pr.get("rings_direction", "X")], T.WAVE_PROFILES[pr.get("wave_profile", "SIN")],
+                0, 0]
+    if t == "TEX_MAGIC":
+        return [int(pr.get("turbulence_depth", 2)), 0, 0, 0, 0, 0]
+    if t == "TEX_BRICK":
+        return [int(pr.get("offset_frequency", 2)), int(pr.get("squash_frequency", 2)), 0, 0,
+                float(pr.get("offset", 0.5)), float(pr.get("squash", 1.0))]
+    if t == "TEX_GRADIENT":
+        return [T.GRADIENT_TYPES[pr.get("gradient_type", "LINEAR")], 0, 0, 0, 0, 0]
+    return [dims, 0, 0, 0, 0, 0]
+
+
+def _procedural(c, name, nd, pr):
+    t = nd["type"]
+    kind = O.PROC_TYPES[t]
+    vec = nd["inputs"].get("Vector")
+    v = c.source(vec, "v") if vec is not None else _attribute_op(c, "@generated")
+    args = [v, c.input(name, "W", "f", 0.0)]
+    for sock in O.PROC_SOCKETS[kind]:
+        d = PROC_DEFAULTS[sock]
+        args.append(c.input(name, sock, "c" if isinstance(d, tuple) else "f", d))
+    out = c.reg(O.OUT_WIDTH[O.OP_PROC])
+    c.emit(O.OP_PROC, out, args, p=kind, q=c.const(_proc_settings(t, pr)))
+    colour = (out, "c")
+    if kind == O.PROC_VORONOI:
+        return {"Color": colour, "Position": (out + 3, "v"), "Distance": (out + 6, "f"), "W": (out + 7, "f"),
+                "Radius": (out + 8, "f")}
+    if kind == O.PROC_WHITE:
+        return {"Color": colour, "Value": (out + 3, "f")}
+    return {"Color": colour, "Fac": (out + 3, "f")}
+
+
 NODES = {
     "VALUE": _value, "RGB": _rgb, "MATH": _math, "VECT_MATH": _vmath, "MIX": _mix, "MIX_RGB": _mix_rgb,
     "CLAMP": _clamp, "MAP_RANGE": _map_range, "SEPARATE_COLOR": _separate_color, "SEPXYZ": _separate_xyz,
@@ -612,4 +666,5 @@ NODES = {
     "VALTORGB": _ramp, "CURVE_RGB": _curve_rgb, "CURVE_FLOAT": _curve_float, "BLACKBODY": _blackbody,
     "WAVELENGTH": _wavelength, "FRESNEL": _fresnel, "LAYER_WEIGHT": _layer_weight,
 }
+NODES.update({t: _procedural for t in O.PROC_TYPES})
 SUPPORTED_TYPES = frozenset(NODES)

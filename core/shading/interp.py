@@ -9,6 +9,7 @@ import math
 from ..jit import function, inline
 from ..textures import kernel as tex
 from . import ops as O
+from . import procedural as T
 
 PI = math.pi
 
@@ -665,6 +666,74 @@ def _table_ops(op, p, q, out, pc, ops, consts, regs, tex_data, tex_info):
         regs[out + 3] = 1.0
 
 
+@inline
+def _proc_ops(p, q, out, pc, ops, consts, regs):
+    """The procedural textures (core/shading/procedural.py): p = PROC_* kind, the operands
+    the vector, W and the node's sockets in the order of ops.PROC_SOCKETS, the integer
+    settings at consts[q..]; out: colour (3), then the node's float outputs."""
+    x, y, z = _vec(regs, consts, ops[pc + 5])
+    w = _rd(regs, consts, ops[pc + 6], 0)
+    i0 = int(consts[q])
+    i1 = int(consts[q + 1])
+    i2 = int(consts[q + 2])
+    i3 = int(consts[q + 3])
+    if p == O.PROC_NOISE:
+        fac, r, g, b = T.noise_texture(x, y, z, w, i0, i1, _rd(regs, consts, ops[pc + 7], 0),
+                                       _rd(regs, consts, ops[pc + 8], 0), _rd(regs, consts, ops[pc + 9], 0),
+                                       _rd(regs, consts, ops[pc + 10], 0), _rd(regs, consts, ops[pc + 11], 0),
+                                       _rd(regs, consts, ops[pc + 12], 0), _rd(regs, consts, ops[pc + 13], 0), i2,
+                                       True)
+        _put3(regs, out, (r, g, b))
+        regs[out + 3] = fac
+    elif p == O.PROC_VORONOI:
+        d, r, g, b, px, py, pz, wo, rad = T.voronoi_texture(
+            x, y, z, w, i0, i1, i2, _rd(regs, consts, ops[pc + 7], 0), _rd(regs, consts, ops[pc + 8], 0),
+            _rd(regs, consts, ops[pc + 9], 0), _rd(regs, consts, ops[pc + 10], 0), _rd(regs, consts, ops[pc + 11], 0),
+            _rd(regs, consts, ops[pc + 12], 0), _rd(regs, consts, ops[pc + 13], 0), i3)
+        _put3(regs, out, (r, g, b))
+        _put3(regs, out + 3, (px, py, pz))
+        regs[out + 6] = d
+        regs[out + 7] = wo
+        regs[out + 8] = rad
+    elif p == O.PROC_WAVE:
+        f = T.wave_texture(x, y, z, i0, i1, i2, i3, _rd(regs, consts, ops[pc + 7], 0),
+                           _rd(regs, consts, ops[pc + 8], 0), _rd(regs, consts, ops[pc + 9], 0),
+                           _rd(regs, consts, ops[pc + 10], 0), _rd(regs, consts, ops[pc + 11], 0),
+                           _rd(regs, consts, ops[pc + 12], 0))
+        _put3(regs, out, (f, f, f))
+        regs[out + 3] = f
+    elif p == O.PROC_MAGIC:
+        r, g, b, f = T.magic_texture(x, y, z, i0, _rd(regs, consts, ops[pc + 7], 0),
+                                     _rd(regs, consts, ops[pc + 8], 0))
+        _put3(regs, out, (r, g, b))
+        regs[out + 3] = f
+    elif p == O.PROC_CHECKER:
+        c1 = _vec(regs, consts, ops[pc + 8])
+        c2 = _vec(regs, consts, ops[pc + 9])
+        r, g, b, f = T.checker_texture(x, y, z, _rd(regs, consts, ops[pc + 7], 0), c1[0], c1[1], c1[2], c2[0],
+                                       c2[1], c2[2])
+        _put3(regs, out, (r, g, b))
+        regs[out + 3] = f
+    elif p == O.PROC_BRICK:
+        tint, f = T.brick_texture(x, y, z, _rd(regs, consts, ops[pc + 7], 0), _rd(regs, consts, ops[pc + 8], 0),
+                                  _rd(regs, consts, ops[pc + 9], 0), _rd(regs, consts, ops[pc + 10], 0),
+                                  _rd(regs, consts, ops[pc + 11], 0), _rd(regs, consts, ops[pc + 12], 0),
+                                  float(consts[q + 4]), i0, float(consts[q + 5]), i1)
+        c1 = _vec(regs, consts, ops[pc + 13])
+        c2 = _vec(regs, consts, ops[pc + 14])
+        cm = _vec(regs, consts, ops[pc + 15])
+        _put3(regs, out, T.brick_color(tint, f, c1[0], c1[1], c1[2], c2[0], c2[1], c2[2], cm[0], cm[1], cm[2]))
+        regs[out + 3] = f
+    elif p == O.PROC_GRADIENT:
+        f = T.gradient_texture(x, y, z, i0)
+        _put3(regs, out, (f, f, f))
+        regs[out + 3] = f
+    else:
+        v, r, g, b = T.white_noise_texture(x, y, z, w, i0)
+        _put3(regs, out, (r, g, b))
+        regs[out + 3] = v
+
+
 @function
 def run(ops, consts, tex_data, tex_info, tri_attr, start, prim, bu, bv, ctx, regs):
     """The 3-vector result of the program at ops[start..] at a shading point of leaf triangle
@@ -711,6 +780,8 @@ def run(ops, consts, tex_data, tex_info, tri_attr, start, prim, bu, bv, ctx, reg
             _colour_ops(op, p, q, out, pc, ops, consts, regs)
         elif op == O.OP_MIXF or op == O.OP_MIXV or op == O.OP_MIXC or op == O.OP_MAPRANGE or op == O.OP_CLAMP:
             _mix_ops(op, p, q, out, pc, ops, consts, regs)
+        elif op == O.OP_PROC:
+            _proc_ops(p, q, out, pc, ops, consts, regs)
         else:
             _table_ops(op, p, q, out, pc, ops, consts, regs, tex_data, tex_info)
         pc += O.HEADER + n

@@ -32,7 +32,7 @@ OP_LAYER = 20  # out, out+1 = Layer Weight (fresnel, facing) of blend a0 at norm
 OP_IMAGE = 21  # out vec3 (+ alpha at out+3) = texture q at UV a0 (vec3)
 OP_RAMP = 22  # out vec3 + alpha at out+3 = colour ramp table at consts[q..] at factor a0; p 1 interpolates
 OP_BUMP = 23  # reserved: bump (not compiled by this version)
-OP_PROC = 24  # reserved: procedural textures
+OP_PROC = 24  # out: colour (3) then the float outputs of procedural texture p; settings at consts[q..]
 
 OP_NAMES = ("end", "coord", "attr", "xform", "math", "vmath", "mixf", "mixv", "mixc", "table", "curves", "hsv",
             "invert", "bright", "gamma", "convert", "combine", "maprange", "clamp", "fresnel", "layer", "image",
@@ -40,7 +40,7 @@ OP_NAMES = ("end", "coord", "attr", "xform", "math", "vmath", "mixf", "mixv", "m
 OUT_WIDTH = {OP_END: 0, OP_COORD: 3, OP_ATTR: 3, OP_XFORM: 3, OP_MATH: 1, OP_VMATH: 4, OP_MIXF: 1, OP_MIXV: 3,
              OP_MIXC: 3, OP_TABLE: 3, OP_CURVES: 3, OP_HSV: 3, OP_INVERT: 3, OP_BRIGHT: 3, OP_GAMMA: 3,
              OP_CONVERT: 3, OP_COMBINE: 3, OP_MAPRANGE: 3, OP_CLAMP: 1, OP_FRESNEL: 1, OP_LAYER: 2, OP_IMAGE: 4,
-             OP_RAMP: 4}
+             OP_RAMP: 4, OP_PROC: 9}
 
 # OP_COORD: what of the shading point
 COORD_P = 0  # world position
@@ -85,5 +85,21 @@ CONV_HSL_RGB = 3
 MAPRANGE_TYPES = ("LINEAR", "STEPPED", "SMOOTHSTEP", "SMOOTHERSTEP")
 MAPRANGE = {name: i for i, name in enumerate(MAPRANGE_TYPES)}
 
+# OP_PROC kinds, their node types and socket operands (after the Vector and W operands)
+PROC_NOISE, PROC_VORONOI, PROC_WAVE, PROC_MAGIC, PROC_CHECKER, PROC_BRICK, PROC_GRADIENT, PROC_WHITE = range(8)
+PROC_TYPES = {"TEX_NOISE": PROC_NOISE, "TEX_VORONOI": PROC_VORONOI, "TEX_WAVE": PROC_WAVE, "TEX_MAGIC": PROC_MAGIC,
+              "TEX_CHECKER": PROC_CHECKER, "TEX_BRICK": PROC_BRICK, "TEX_GRADIENT": PROC_GRADIENT,
+              "TEX_WHITE_NOISE": PROC_WHITE}
+PROC_SOCKETS = {
+    PROC_NOISE: ("Scale", "Detail", "Roughness", "Lacunarity", "Offset", "Gain", "Distortion"),
+    PROC_VORONOI: ("Scale", "Detail", "Roughness", "Lacunarity", "Smoothness", "Exponent", "Randomness"),
+    PROC_WAVE: ("Scale", "Distortion", "Detail", "Detail Scale", "Detail Roughness", "Phase Offset"),
+    PROC_MAGIC: ("Scale", "Distortion"),
+    PROC_CHECKER: ("Scale", "Color1", "Color2"),
+    PROC_BRICK: ("Scale", "Mortar Size", "Mortar Smooth", "Bias", "Brick Width", "Row Height", "Color1", "Color2",
+                 "Mortar"),
+    PROC_GRADIENT: (),
+    PROC_WHITE: (),
+}
 RAMP_TABLE_SIZE = 256  # entries of a baked colour ramp or curve, as Cycles
 MAX_REGISTERS = 256  # float registers of a program (they live in the BVH stack's scratch while shading)

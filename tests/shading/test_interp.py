@@ -291,3 +291,39 @@ def test_check_rejects_bad_programs():
     bad[0] = 99
     assert "unknown op" in check(type(prog)("x", bad, prog.consts, [], prog.n_registers), 0)
     assert "end" in check(type(prog)("x", prog.ops[:-6], prog.consts, [], prog.n_registers), 0)
+
+
+def interp_only(prog):
+    assert check(prog, 0) is None
+    return numba_eval(prog)
+
+
+@pytest.mark.parametrize("t, props, socket, call", [
+    ("TEX_NOISE", {"noise_type": "FBM", "noise_dimensions": "3D"}, "Fac",
+     lambda T, v: T.noise_texture(*v, 0.0, 3, 1, 5.0, 2.0, 0.5, 2.0, 0.0, 1.0, 0.0, 1, True)[0]),
+    ("TEX_NOISE", {"noise_type": "RIDGED_MULTIFRACTAL", "noise_dimensions": "2D"}, "Color",
+     lambda T, v: T.noise_texture(*v, 0.0, 2, 3, 5.0, 2.0, 0.5, 2.0, 0.0, 1.0, 0.0, 1, True)[1:]),
+    ("TEX_VORONOI", {"feature": "F2", "distance": "MANHATTAN"}, "Distance",
+     lambda T, v: T.voronoi_texture(*v, 0.0, 3, 1, 1, 5.0, 2.0, 0.5, 2.0, 1.0, 0.5, 1.0, 0)[0]),
+    ("TEX_VORONOI", {}, "Position",
+     lambda T, v: T.voronoi_texture(*v, 0.0, 3, 0, 0, 5.0, 2.0, 0.5, 2.0, 1.0, 0.5, 1.0, 0)[4:7]),
+    ("TEX_WAVE", {"wave_type": "RINGS", "wave_profile": "TRI"}, "Fac",
+     lambda T, v: T.wave_texture(*v, 1, 0, 0, 2, 5.0, 0.0, 2.0, 1.0, 0.5, 0.0)),
+    ("TEX_MAGIC", {"turbulence_depth": 4}, "Color", lambda T, v: T.magic_texture(*v, 4, 5.0, 0.0)[:3]),
+    ("TEX_CHECKER", {}, "Color",
+     lambda T, v: T.checker_texture(*v, 5.0, 0.8, 0.8, 0.8, 0.2, 0.2, 0.2)[:3]),
+    ("TEX_BRICK", {}, "Fac",
+     lambda T, v: T.brick_texture(*v, 5.0, 0.02, 0.1, 0.0, 0.5, 0.25, 0.5, 2, 1.0, 2)[1]),
+    ("TEX_GRADIENT", {"gradient_type": "RADIAL"}, "Fac", lambda T, v: T.gradient_texture(*v, 4)),
+    ("TEX_WHITE_NOISE", {}, "Value", lambda T, v: T.white_noise_texture(*v, 0.0, 3)[0]),
+])
+def test_procedural_textures_are_wired_to_their_functions(t, props, socket, call):
+    from spectral_gi.core.shading import procedural as T
+
+    g = graph(n=node(t, props))  # Vector unlinked: generated coordinates
+    kind = "value" if socket in ("Fac", "Distance", "Value") else "vector"
+    got = interp_only(compile_output(g, ("link", "n", socket), kind))
+    v = tuple(float(np.float32(a)) for a in ATTRS["@generated"])  # the attribute table is float32
+    want = np.atleast_1d(np.asarray(call(T, v), np.float64))
+    np.testing.assert_allclose(got[:want.size] if want.size == 3 else got[0], want if want.size == 3 else want[0],
+                               rtol=1e-5, atol=1e-6)

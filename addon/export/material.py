@@ -397,7 +397,27 @@ def emission_term(ctx, owner, node, colour_name, strength_name):
             input_value(ctx, owner, node, (strength_name,), "value"))
 
 
-def textured_leaf(leaf, base=-1, rough=-1, normal=-1, strength=1.0, base_prog=None, rough_prog=None):
+def normal_slot(ctx, owner, node):
+    """(normal texture or -1, strength, normal program or None) of the Normal input of ``node``:
+    a tangent-space Normal Map of an image on the render UV map takes the texture path, any
+    other node graph there (Bump, Normal Map of another UV map or space, ...) a program."""
+    from .nodes import linked_node
+
+    nmap = normal_map_node(node)
+    if (nmap is not None and getattr(nmap, "space", "TANGENT") == "TANGENT" and not getattr(nmap, "uv_map", "")
+            and image_node(nmap, "Color") is not None and not needs_program(nmap.inputs.get("Color"), "colour")
+            and not (nmap.inputs["Strength"].is_linked and linked_node(nmap.inputs["Strength"]) is not None)):
+        return (*normal_input(ctx, owner, node), None)
+    sock = node.inputs.get("Normal")
+    if sock is not None and sock.is_linked and linked_node(sock) is not None:
+        prog = compile_input(ctx, owner, node, "Normal", "vector")
+        if prog is not None:
+            return -1, 1.0, prog
+    return (*normal_input(ctx, owner, node), None)
+
+
+def textured_leaf(leaf, base=-1, rough=-1, normal=-1, strength=1.0, base_prog=None, rough_prog=None,
+                  normal_prog=None):
     """``leaf`` with the textures and programs its model supports (base colour on its ``ra``, GGX
     roughness, normal map)."""
     from ...core import constants as C
@@ -409,6 +429,8 @@ def textured_leaf(leaf, base=-1, rough=-1, normal=-1, strength=1.0, base_prog=No
         m.base_colour_program = base_prog
     if rough_prog is not None and m.model in (C.MAT_GGX_CONDUCTOR, C.MAT_GGX_DIELECTRIC, C.MAT_PLASTIC):
         m.roughness_program = rough_prog
+    if normal_prog is not None and m.model not in (C.MAT_MIX, C.MAT_ADD, C.MAT_NULL):
+        m.normal_program = normal_prog
     if base >= 0 and m.model in (C.MAT_LAMBERT, C.MAT_PLASTIC, C.MAT_DIELECTRIC, C.MAT_GGX_DIELECTRIC):
         m.base_colour_texture = base
     if rough >= 0 and m.model in (C.MAT_GGX_CONDUCTOR, C.MAT_GGX_DIELECTRIC, C.MAT_PLASTIC):
@@ -454,7 +476,7 @@ def _principled(ctx, owner, node):
         if val("Anisotropic") > 0.0:
             ctx.note(f"{owner}: '{node.name}' roughness texture rendered isotropic (anisotropy ignored)")
         ax = ay = max(ax, ay, 2.0 * SMOOTH_ALPHA)  # a GGX model, whose α the texture sets per point
-    normal_tex, normal_strength = normal_input(ctx, owner, node)
+    normal_tex, normal_strength, normal_prog = normal_slot(ctx, owner, node)
     ior = _ior(ctx, owner, val("IOR", 1.5))
     spec_tint = col("Specular Tint")
     level = val("Specular IOR Level", 0.5)
@@ -462,8 +484,8 @@ def _principled(ctx, owner, node):
         ctx.note(f"{owner}: anisotropic rotation ignored (the tangent frame is the renderer's own)")
     if getattr(node, "distribution", "GGX") not in GGX_DISTRIBUTIONS:
         ctx.note(f"{owner}: '{node.name}' distribution {node.distribution} rendered as GGX")
-    ignored_links(ctx, owner, node, ("Tangent", "Coat Normal") if normal_tex >= 0 else
-                  ("Normal", "Tangent", "Coat Normal"))
+    ignored_links(ctx, owner, node, ("Tangent", "Coat Normal") if normal_tex >= 0 or normal_prog is not None
+                  else ("Normal", "Tangent", "Coat Normal"))
     for inp, what, substitute in PRINCIPLED_UNSUPPORTED:
         v = val(inp)
         if v > 0.0:
@@ -499,7 +521,8 @@ def _principled(ctx, owner, node):
         ctx.note(f"{owner}: a metal's base colour texture is not supported, used the image's mean colour")
     if metal is not None and base_prog is not None:
         ctx.note(f"{owner}: a metal's base colour node graph is not supported, used the socket's own colour")
-    textures = dict(rough=rough_tex, normal=normal_tex, strength=normal_strength, rough_prog=rough_prog)
+    textures = dict(rough=rough_tex, normal=normal_tex, strength=normal_strength, rough_prog=rough_prog,
+                    normal_prog=normal_prog)
     metal = textured_leaf(metal, **textures)
     glass = textured_leaf(glass, base=base_tex, base_prog=base_prog, **textures)
     plastic = textured_leaf(plastic, base=base_tex, base_prog=base_prog, **textures)
@@ -614,12 +637,13 @@ def _shader(ctx, owner, node, depth=0):
             colour = input_value(ctx, owner, node, ("Color",), "colour")
         if (input_value(ctx, owner, node, ("Roughness",), "value") or 0.0) > 0.0:
             ctx.note(f"{owner}: '{node.name}' roughness ignored (Lambert)")
-        normal_tex, normal_strength = normal_input(ctx, owner, node)
-        if normal_tex < 0:
+        normal_tex, normal_strength, normal_prog = normal_slot(ctx, owner, node)
+        if normal_tex < 0 and normal_prog is None:
             ignored_links(ctx, owner, node, ("Normal",))
         leaf = _leaf(name=f"{owner}: {node.name}", model=constants.MAT_LAMBERT, params=lambert_params(),
                      reflectance=_refl(ctx, owner, colour))
-        return textured_leaf(leaf, base=base_tex, normal=normal_tex, strength=normal_strength, base_prog=base_prog), []
+        return textured_leaf(leaf, base=base_tex, normal=normal_tex, strength=normal_strength, base_prog=base_prog,
+                             normal_prog=normal_prog), []
     if kind == "BSDF_GLOSSY":
         return _glossy(ctx, owner, node), []
     if kind == "BSDF_METALLIC":

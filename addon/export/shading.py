@@ -17,7 +17,7 @@ PROPS = ("operation", "use_clamp", "data_type", "blend_type", "clamp_factor", "c
          "attribute_type", "layer_name", "projection", "noise_dimensions", "noise_type", "normalize",
          "voronoi_dimensions", "distance", "feature", "wave_type", "bands_direction", "rings_direction",
          "wave_profile", "turbulence_depth", "offset_frequency", "squash_frequency", "offset", "squash",
-         "gradient_type")
+         "gradient_type", "invert", "space")
 CURVE_TABLE_SIZE = 256
 CONSTANT_SOURCES = ("VALUE", "RGB")
 
@@ -175,7 +175,7 @@ def needs_program(sock, kind):
 
 def compile_input(ctx, owner, node, name, kind, scale=None, weight=1.0):
     """Index into ctx.programs of the program computing input ``name`` of ``node`` as ``kind``
-    ("colour", "value"; ``scale``: the name of a second input multiplied in), or None when
+    ("colour", "value", "vector"; ``scale``: the name of a second input multiplied in), or None when
     the graph holds something unsupported (listed in the warning, the caller uses constants)."""
     from ...core.shading import Unsupported, compile_output
 
@@ -190,7 +190,7 @@ def compile_input(ctx, owner, node, name, kind, scale=None, weight=1.0):
     try:
         prog = compile_output(graph, src, kind, name=f"{owner}/{node.name}.{name}",
                               camera=getattr(ctx, "camera_from_world", None), scale=sc,
-                              weight=weight)
+                              weight=weight, window=getattr(ctx, "camera_window", None))
     except Unsupported as e:
         label = b.nodes.get(e.node, {}) or {}
         where = label.get("label", f"{owner}/{e.node}")

@@ -905,24 +905,35 @@ def _surface_material(mat, txr, cfg, scr, m, prim, bu, bv, sn, d, hit):
         if mat_tex[m, 0] >= 0 or mat_tex[m, 1] >= 0 or mat_tex[m, 2] >= 0:
             tex_base, rough, cr, cg, cb, snx, sny, snz = _textures(
                 m, np.int64(prim), bu, bv, sn, d, hit[7], mat.params[m], scr, mat.spec, txr)
-        tex_base, rough, cr, cg, cb = _program_surface(txr.shading, txr, mat, scr, m, prim, (bu, bv), hit, d,
-                                                       (snx, sny, snz), (tex_base, rough, cr, cg, cb))
+        tex_base, rough, cr, cg, cb, snx, sny, snz = _program_surface(
+            txr.shading, txr, mat, scr, m, prim, (bu, bv), hit, d, (snx, sny, snz), (tex_base, rough, cr, cg, cb))
     return tex_base, rough, cr, cg, cb, snx, sny, snz
 
 
 @function
 def _program_surface(shd, txr, mat, scr, m, prim, bary, hit, d, sn, state):
-    """Material m's shader programs for its base colour (uplifted into ρa with the reflectance
-    basis, its rgb clamped to [0, 1]) and roughness (GGX α = r² on both axes in the scratch
-    parameter row). ``state`` (base colour textured, roughness textured, r, g, b) is returned
-    updated; shd None: a scene without programs (a function, so that numba prunes on the
-    argument and compiles nothing of this for it)."""
+    """Material m's shader programs for its shading normal (first: the others see it), base
+    colour (uplifted into ρa with the reflectance basis, its rgb clamped to [0, 1]) and
+    roughness (GGX α = r² on both axes in the scratch parameter row). Returns ``state`` (base
+    colour textured, roughness textured, r, g, b) updated and the shading normal; shd None: a
+    scene without programs (a function, so that numba prunes on the argument and compiles
+    nothing of this for it)."""
     tex_base, rough, cr, cg, cb = state
+    nx, ny, nz = sn
     if shd is not None:
         mp = shd.mat_prog
-        if mp[m, 0] >= 0 or mp[m, 1] >= 0:
+        if mp[m, 0] >= 0 or mp[m, 1] >= 0 or mp[m, 3] >= 0:
             regs = scr.stack.view(np.float32)
-            ctx = (hit[0], hit[1], hit[2], sn[0], sn[1], sn[2], hit[3], hit[4], hit[5], -d[0], -d[1], -d[2])
+            if mp[m, 3] >= 0:
+                ctx = (hit[0], hit[1], hit[2], nx, ny, nz, hit[3], hit[4], hit[5], -d[0], -d[1], -d[2])
+                qx, qy, qz = run_program(shd.prog_ops, shd.prog_consts, txr.tex_data, txr.tex_info, shd.tri_attr,
+                                         np.int64(mp[m, 3]), np.int64(prim), bary[0], bary[1], ctx, regs)
+                ql = math.sqrt(qx * qx + qy * qy + qz * qz)
+                if ql > 0.0:
+                    nx = qx / ql
+                    ny = qy / ql
+                    nz = qz / ql
+            ctx = (hit[0], hit[1], hit[2], nx, ny, nz, hit[3], hit[4], hit[5], -d[0], -d[1], -d[2])
             if mp[m, 0] >= 0:
                 r, g, b = run_program(shd.prog_ops, shd.prog_consts, txr.tex_data, txr.tex_info, shd.tri_attr,
                                       np.int64(mp[m, 0]), np.int64(prim), bary[0], bary[1], ctx, regs)
@@ -950,7 +961,7 @@ def _program_surface(shd, txr, mat, scr, m, prim, bary, hit, d, sn, state):
                 pm_tex[1] = max(rr * rr, ALPHA_MIN)
                 pm_tex[2] = pm_tex[1]
                 rough = True
-    return tex_base, rough, cr, cg, cb
+    return tex_base, rough, cr, cg, cb, nx, ny, nz
 
 
 @function

@@ -141,6 +141,7 @@ class Material:
     base_colour_program: int = -1  # rgb → ρa (uplifted per evaluation); wins over base_colour_texture
     roughness_program: int = -1  # x: Blender roughness r, GGX α = r² (GGX and plastic models)
     emission_program: int = -1  # rgb radiance (Blender colour × strength) added to the emission
+    normal_program: int = -1  # the shading normal (world space, Bump / Normal Map nodes)
     holdout: bool = False  # Cycles' Holdout shader: a hole (alpha 0) for camera rays, black and absorbing for others
 
 

@@ -41,15 +41,17 @@ def _is_link(v):
 
 
 class Compiler:
-    def __init__(self, graph, camera=None):
+    def __init__(self, graph, camera=None, window=None):
         self.nodes = graph["nodes"]
         self.camera = camera  # world → camera 3×4 (rows), for Texture Coordinate Camera
+        self.window = window  # (orthographic, half width, half height) of the frame, for Window
         self.ops = []
         self.consts = []
         self.nreg = 0
         self.attributes = []
         self.done = {}
         self.busy = set()
+        self.mode = 0  # 0: the shading point; 1, 2: its neighbours at +bu, +bv (the Bump node's heights)
 
     # ------------------------------------------------------------------ emission helpers
     def reg(self, width):
@@ -115,19 +117,20 @@ class Compiler:
         return self.source(nd["inputs"].get(ident, default), want)
 
     def output(self, node, socket):
-        if node not in self.nodes:
+        if node not in self.nodes or self.nodes[node] is None:
             raise Unsupported(node, "not in the graph")
-        if node not in self.done:
-            if node in self.busy:
+        key = (node, self.mode)
+        if key not in self.done:
+            if key in self.busy:
                 raise Unsupported(node, "a cycle in the node tree")
-            self.busy.add(node)
+            self.busy.add(key)
             nd = self.nodes[node]
             fn = NODES.get(nd["type"])
             if fn is None:
                 raise Unsupported(node, f"node type {nd['type']} is not supported")
-            self.done[node] = fn(self, node, nd, nd.get("props", {}))
-            self.busy.discard(node)
-        outs = self.done[node]
+            self.done[key] = fn(self, node, nd, nd.get("props", {}))
+            self.busy.discard(key)
+        outs = self.done[key]
         if socket not in outs:
             raise Unsupported(node, f"output '{socket}' is not supported")
         return outs[socket]
@@ -138,11 +141,14 @@ class Compiler:
                        attributes=list(self.attributes), n_registers=self.nreg)
 
 
-def compile_output(graph, source, kind, name="program", camera=None, scale=None, weight=1.0):
+def compile_output(graph, source, kind, name="program", camera=None, scale=None, weight=1.0, window=None):
     """The Program computing ``source`` (a link or a constant) as ``kind`` ("colour", "value",
     "vector"); ``scale``: a second source multiplied in (an emission's strength), ``weight`` a
-    constant factor (the weight of the shader mixes above an emitter)."""
-    c = Compiler(graph, camera)
+    constant factor (the weight of the shader mixes above an emitter); ``camera`` the world →
+    camera matrix and ``window`` (orthographic, half width, half height of the frame: in
+    metres for an orthographic camera, at unit distance for a perspective one) for the
+    Camera and Window coordinates."""
+    c = Compiler(graph, camera, window)
     want = "f" if kind == "value" else ("c" if kind == "colour" else "v")
     r = c.source(source, want)
     if kind == "value":
@@ -296,13 +302,53 @@ def _rgb_to_bw(c, name, nd, pr):
 
 
 def _coord(c, which):
+    if which == O.COORD_P and c.mode:
+        return _attribute_op(c, "@world")  # the neighbour's position
     out = c.reg(3)
     return c.emit(O.OP_COORD, out, [], p=which)
 
 
-def _attribute_op(c, attr, normalise=False):
+def _attribute_op(c, attr, normalise=False, mode=None):
+    mode = c.mode if mode is None else mode
     out = c.reg(3)
-    return c.emit(O.OP_ATTR, out, [], p=1 if normalise else 0, q=c.attr(attr))
+    return c.emit(O.OP_ATTR, out, [], p=(1 if normalise else 0) | (2 if mode == 1 else 0) | (4 if mode == 2 else 0),
+                  q=c.attr(attr))
+
+
+def _normal_in(c, name, nd):
+    n = nd["inputs"].get("Normal")
+    return c.source(n, "v") if n is not None else _coord(c, O.COORD_N)
+
+
+def _bump(c, name, nd, pr):
+    if c.mode:
+        raise Unsupported(name, "a Bump node inside the height of another")
+    h = nd["inputs"].get("Height", 1.0)
+    heights = []
+    for mode in (0, 1, 2):
+        c.mode = mode
+        try:
+            heights.append(c.source(h, "f"))
+        finally:
+            c.mode = 0
+    pos = [_attribute_op(c, "@world", mode=m) for m in (0, 1, 2)]
+    out = c.reg(3)
+    c.emit(O.OP_BUMP, out, heights + [c.input(name, "Strength", "f", 1.0), c.input(name, "Distance", "f", 1.0)]
+           + pos + [_normal_in(c, name, nd)], q=1 if pr.get("invert") else 0)
+    return {"Normal": (out, "v")}
+
+
+def _normal_map(c, name, nd, pr):
+    space = pr.get("space", "TANGENT")
+    if space not in O.NORMALMAP_SPACES:
+        raise Unsupported(name, f"{space.lower()} space normal maps")
+    uv = "uv:" + pr.get("uv_map", "")
+    pos = [_attribute_op(c, "@world", mode=m) for m in (0, 1, 2)]
+    uvs = [_attribute_op(c, uv, mode=m) for m in (0, 1, 2)]
+    out = c.reg(3)
+    c.emit(O.OP_NORMALMAP, out, [c.input(name, "Color", "c", (0.5, 0.5, 1.0)), c.input(name, "Strength", "f", 1.0)]
+           + pos + uvs + [_coord(c, O.COORD_N)], p=O.NORMALMAP_SPACES[space])
+    return {"Normal": (out, "v")}
 
 
 def _tex_coord(c, name, nd, pr):
@@ -315,6 +361,7 @@ def _tex_coord(c, name, nd, pr):
     outs["Object"] = lambda: (_attribute_op(c, "@object"), "v")
     outs["Camera"] = lambda: (_camera(c, name), "v")
     outs["Reflection"] = lambda: (_reflection(c), "v")
+    outs["Window"] = lambda: (_window(c, name), "v")
     return _Lazy(outs)
 
 
@@ -324,6 +371,28 @@ def _camera(c, name):
     m = np.asarray(c.camera, np.float64)[:3, :4].reshape(-1)
     out = c.reg(3)
     return c.emit(O.OP_XFORM, out, [_coord(c, O.COORD_P)], p=O.XF_POINT, q=c.const(m))
+
+
+def _window(c, name):
+    """Cycles' Window coordinates: the point's place in the camera's frame, (0, 0) to (1, 1)."""
+    if c.camera is None or c.window is None:
+        raise Unsupported(name, "Window coordinates without a camera")
+    ortho, hx, hy = c.window
+    s = np.array([[0.5 / hx, 0, 0, 0.5], [0, 0.5 / hy, 0, 0.5], [0, 0, 0, 0]], np.float64)
+    cam = _camera(c, name)
+    if ortho:
+        v = cam
+    else:
+        nz = c.reg(1)
+        c.emit(O.OP_MATH, nz, [cam + 2, c.cf(-1.0), c.cf(0.0)], p=O.MATH["MULTIPLY"])
+        x = c.reg(1)
+        c.emit(O.OP_MATH, x, [cam, nz, c.cf(0.0)], p=O.MATH["DIVIDE"])
+        y = c.reg(1)
+        c.emit(O.OP_MATH, y, [cam + 1, nz, c.cf(0.0)], p=O.MATH["DIVIDE"])
+        v = c.reg(3)
+        c.emit(O.OP_COMBINE, v, [x, y, c.cf(0.0)])
+    out = c.reg(3)
+    return c.emit(O.OP_XFORM, out, [v], p=O.XF_POINT, q=c.const(s.reshape(-1)))
 
 
 def _reflection(c):
@@ -366,14 +435,10 @@ def _attribute(c, name, nd, pr):
         raise Unsupported(name, f"{pr.get('attribute_type')} attributes")
     key = "col:" + attr
 
-    def vec():
-        return _attribute_op(c, key)
-
-    def fac():
-        v = c.done[name]["Vector"][0]
-        return c.convert(v, "v", "f")
-    return _Lazy({"Color": lambda: (vec(), "c"), "Vector": lambda: (c.done[name]["Color"][0], "v"),
-                  "Fac": lambda: (fac(), "f"), "Alpha": lambda: (c.cf(1.0), "f")})
+    outs = _Lazy()
+    outs.update({"Color": lambda: (_attribute_op(c, key), "c"), "Vector": lambda: (outs["Color"][0], "v"),
+                 "Fac": lambda: (c.convert(outs["Color"][0], "v", "f"), "f"), "Alpha": lambda: (c.cf(1.0), "f")})
+    return outs
 
 
 def _vertex_color(c, name, nd, pr):
@@ -586,16 +651,14 @@ def _wavelength(c, name, nd, pr):
 
 
 def _fresnel(c, name, nd, pr):
-    n = nd["inputs"].get("Normal")
-    nrm = c.source(n, "v") if n is not None else _coord(c, O.COORD_N)
+    nrm = _normal_in(c, name, nd)
     out = c.reg(1)
     c.emit(O.OP_FRESNEL, out, [c.input(name, "IOR", "f", 1.45), nrm])
     return {"Fac": (out, "f")}
 
 
 def _layer_weight(c, name, nd, pr):
-    n = nd["inputs"].get("Normal")
-    nrm = c.source(n, "v") if n is not None else _coord(c, O.COORD_N)
+    nrm = _normal_in(c, name, nd)
     out = c.reg(2)
     c.emit(O.OP_LAYER, out, [c.input(name, "Blend", "f", 0.5), nrm])
     return {"Fresnel": (out, "f"), "Facing": (out + 1, "f")}
@@ -664,7 +727,8 @@ NODES = {
     "RGBTOBW": _rgb_to_bw, "TEX_COORD": _tex_coord, "UVMAP": _uv_map, "NEW_GEOMETRY": _geometry,
     "ATTRIBUTE": _attribute, "VERTEX_COLOR": _vertex_color, "MAPPING": _mapping, "TEX_IMAGE": _image,
     "VALTORGB": _ramp, "CURVE_RGB": _curve_rgb, "CURVE_FLOAT": _curve_float, "BLACKBODY": _blackbody,
-    "WAVELENGTH": _wavelength, "FRESNEL": _fresnel, "LAYER_WEIGHT": _layer_weight,
+    "WAVELENGTH": _wavelength, "FRESNEL": _fresnel, "LAYER_WEIGHT": _layer_weight, "BUMP": _bump,
+    "NORMAL_MAP": _normal_map,
 }
 NODES.update({t: _procedural for t in O.PROC_TYPES})
 SUPPORTED_TYPES = frozenset(NODES)

@@ -484,6 +484,8 @@ def table(consts, q, ch, x):
 
 @inline
 def _attr(tri_attr, prim, a, bu, bv):
+    """Attribute a of leaf triangle prim interpolated at barycentrics (bu, bv) (linear, so
+    also beyond the triangle)."""
     b0 = 1.0 - bu - bv
     k = a * 9
     return (b0 * tri_attr[prim, k] + bu * tri_attr[prim, k + 3] + bv * tri_attr[prim, k + 6],
@@ -531,8 +533,12 @@ def _geometry_ops(op, p, q, out, pc, ops, consts, regs, ctx, tri_attr, prim, bu,
     if op == O.OP_COORD:
         _put3(regs, out, (ctx[3 * p], ctx[3 * p + 1], ctx[3 * p + 2]))
     elif op == O.OP_ATTR:
+        if p & 2:
+            bu += O.BUMP_DELTA
+        if p & 4:
+            bv += O.BUMP_DELTA
         v = _attr(tri_attr, prim, q, bu, bv)
-        if p == 1:
+        if p & 1:
             v = _norm3(v[0], v[1], v[2])
         _put3(regs, out, v)
     else:
@@ -667,6 +673,79 @@ def _table_ops(op, p, q, out, pc, ops, consts, regs, tex_data, tex_info):
 
 
 @inline
+def _sub3(a, b):
+    return a[0] - b[0], a[1] - b[1], a[2] - b[2]
+
+
+@inline
+def _cross3(a, b):
+    return a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]
+
+
+@inline
+def _dot3(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@inline
+def _normal_ops(op, p, q, out, pc, ops, consts, regs):
+    """Bump (Cycles' svm_node_set_bump, with the differentials of the barycentric offsets) and
+    Normal Map (svm_node_normal_map; the tangent ∂p/∂u of the UV map, bitangent sign·n × t)."""
+    nv = _vec(regs, consts, ops[pc + 13])
+    n_in = _norm3(nv[0], nv[1], nv[2])
+    if op == O.OP_BUMP:
+        dpdx = _sub3(_vec(regs, consts, ops[pc + 11]), _vec(regs, consts, ops[pc + 10]))
+        dpdy = _sub3(_vec(regs, consts, ops[pc + 12]), _vec(regs, consts, ops[pc + 10]))
+        rx = _cross3(dpdy, n_in)
+        ry = _cross3(n_in, dpdx)
+        hc = _rd(regs, consts, ops[pc + 5], 0)
+        hx = _rd(regs, consts, ops[pc + 6], 0) - hc
+        hy = _rd(regs, consts, ops[pc + 7], 0) - hc
+        det = _dot3(dpdx, rx)
+        strength = max(_rd(regs, consts, ops[pc + 8], 0), 0.0)
+        dist = _rd(regs, consts, ops[pc + 9], 0)
+        if q & 1:
+            dist = -dist
+        sgn = 1.0 if det > 0.0 else (-1.0 if det < 0.0 else 0.0)
+        a = abs(det)
+        m = _norm3(a * n_in[0] - dist * sgn * (hx * rx[0] + hy * ry[0]),
+                   a * n_in[1] - dist * sgn * (hx * rx[1] + hy * ry[1]),
+                   a * n_in[2] - dist * sgn * (hx * rx[2] + hy * ry[2]))
+    else:
+        c = _vec(regs, consts, ops[pc + 5])
+        cx, cy, cz = 2.0 * c[0] - 1.0, 2.0 * c[1] - 1.0, 2.0 * c[2] - 1.0
+        strength = max(_rd(regs, consts, ops[pc + 6], 0), 0.0)
+        if p == 0:
+            p0 = _vec(regs, consts, ops[pc + 7])
+            e1 = _sub3(_vec(regs, consts, ops[pc + 8]), p0)
+            e2 = _sub3(_vec(regs, consts, ops[pc + 9]), p0)
+            t0 = _vec(regs, consts, ops[pc + 10])
+            d1 = _sub3(_vec(regs, consts, ops[pc + 11]), t0)
+            d2 = _sub3(_vec(regs, consts, ops[pc + 12]), t0)
+            det = d1[0] * d2[1] - d2[0] * d1[1]
+            r = 1.0 / det if det != 0.0 else 0.0
+            tu = ((e1[0] * d2[1] - e2[0] * d1[1]) * r, (e1[1] * d2[1] - e2[1] * d1[1]) * r,
+                  (e1[2] * d2[1] - e2[2] * d1[1]) * r)
+            bv_ = ((e2[0] * d1[0] - e1[0] * d2[0]) * r, (e2[1] * d1[0] - e1[1] * d2[0]) * r,
+                   (e2[2] * d1[0] - e1[2] * d2[0]) * r)
+            k = _dot3(tu, n_in)
+            t = _norm3(tu[0] - k * n_in[0], tu[1] - k * n_in[1], tu[2] - k * n_in[2])
+            b = _cross3(n_in, t)
+            if _dot3(b, bv_) < 0.0:
+                b = (-b[0], -b[1], -b[2])
+            m = _norm3(cx * t[0] + cy * b[0] + cz * n_in[0], cx * t[1] + cy * b[1] + cz * n_in[1],
+                       cx * t[2] + cy * b[2] + cz * n_in[2])
+        elif p == 1:
+            m = _norm3(cx, cy, cz)
+        else:
+            m = _norm3(cx, -cy, -cz)
+    if strength != 1.0:
+        m = _norm3(n_in[0] + (m[0] - n_in[0]) * strength, n_in[1] + (m[1] - n_in[1]) * strength,
+                   n_in[2] + (m[2] - n_in[2]) * strength)
+    _put3(regs, out, m)
+
+
+@inline
 def _proc_ops(p, q, out, pc, ops, consts, regs):
     """The procedural textures (core/shading/procedural.py): p = PROC_* kind, the operands
     the vector, W and the node's sockets in the order of ops.PROC_SOCKETS, the integer
@@ -782,6 +861,8 @@ def run(ops, consts, tex_data, tex_info, tri_attr, start, prim, bu, bv, ctx, reg
             _mix_ops(op, p, q, out, pc, ops, consts, regs)
         elif op == O.OP_PROC:
             _proc_ops(p, q, out, pc, ops, consts, regs)
+        elif op == O.OP_BUMP or op == O.OP_NORMALMAP:
+            _normal_ops(op, p, q, out, pc, ops, consts, regs)
         else:
             _table_ops(op, p, q, out, pc, ops, consts, regs, tex_data, tex_info)
         pc += O.HEADER + n

@@ -10,7 +10,8 @@ HEADER = 5  # op, n, out, p, q
 
 OP_END = 0  # a0: the result (3-vector)
 OP_COORD = 1  # out vec3: p = COORD_*
-OP_ATTR = 2  # out vec3: corner attribute q interpolated by the barycentrics; p = 1 normalises
+OP_ATTR = 2  # out vec3: corner attribute q interpolated by the barycentrics; p bit 0 normalises, bits 1, 2
+# offset the barycentrics (bu, bv) by BUMP_DELTA (the Bump node's neighbouring points)
 OP_XFORM = 3  # out vec3 = M a0 (M: consts[q..q+12], 3×4 rows); p: XF_*
 OP_MATH = 4  # out = MATH_p(a0, a1, a2), clamped to [0, 1] when q
 OP_VMATH = 5  # out vec3 and out+3 value = VMATH_p(a0, a1, a2 vec3; a3 scale)
@@ -31,16 +32,21 @@ OP_FRESNEL = 19  # out = Fresnel of IOR a0 at normal a1 (vec3)
 OP_LAYER = 20  # out, out+1 = Layer Weight (fresnel, facing) of blend a0 at normal a1 (vec3)
 OP_IMAGE = 21  # out vec3 (+ alpha at out+3) = texture q at UV a0 (vec3)
 OP_RAMP = 22  # out vec3 + alpha at out+3 = colour ramp table at consts[q..] at factor a0; p 1 interpolates
-OP_BUMP = 23  # reserved: bump (not compiled by this version)
+OP_BUMP = 23  # out vec3: Bump: a0..a2 heights (centre, +bu, +bv), a3 strength, a4 distance, a5..a7 the
+# positions there, a8 the normal in; q 1 inverts
 OP_PROC = 24  # out: colour (3) then the float outputs of procedural texture p; settings at consts[q..]
+OP_NORMALMAP = 25  # out vec3: Normal Map of space p: a0 colour, a1 strength, a2..a4 positions and a5..a7 UVs
+# (centre, +bu, +bv), a8 the normal
 
 OP_NAMES = ("end", "coord", "attr", "xform", "math", "vmath", "mixf", "mixv", "mixc", "table", "curves", "hsv",
             "invert", "bright", "gamma", "convert", "combine", "maprange", "clamp", "fresnel", "layer", "image",
-            "ramp", "bump", "proc")
+            "ramp", "bump", "proc", "normalmap")
 OUT_WIDTH = {OP_END: 0, OP_COORD: 3, OP_ATTR: 3, OP_XFORM: 3, OP_MATH: 1, OP_VMATH: 4, OP_MIXF: 1, OP_MIXV: 3,
              OP_MIXC: 3, OP_TABLE: 3, OP_CURVES: 3, OP_HSV: 3, OP_INVERT: 3, OP_BRIGHT: 3, OP_GAMMA: 3,
              OP_CONVERT: 3, OP_COMBINE: 3, OP_MAPRANGE: 3, OP_CLAMP: 1, OP_FRESNEL: 1, OP_LAYER: 2, OP_IMAGE: 4,
-             OP_RAMP: 4, OP_PROC: 9}
+             OP_RAMP: 4, OP_PROC: 9, OP_BUMP: 3, OP_NORMALMAP: 3}
+BUMP_DELTA = 1e-3  # the barycentric offset of the Bump node's and tangent frame's neighbouring points
+NORMALMAP_SPACES = {"TANGENT": 0, "WORLD": 1, "BLENDER_WORLD": 2}
 
 # OP_COORD: what of the shading point
 COORD_P = 0  # world position

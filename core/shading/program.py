@@ -16,10 +16,12 @@ import numpy as np
 
 from . import ops as O
 
-PROGRAM_FIELDS = ("base_colour_program", "roughness_program", "emission_program")
+PROGRAM_FIELDS = ("base_colour_program", "roughness_program", "emission_program", "normal_program")
 SLOT_BASE = 0
 SLOT_ROUGHNESS = 1
 SLOT_EMISSION = 2
+SLOT_NORMAL = 3
+WORLD_POSITION = "@world"  # the corners' world positions: filled from the meshes, not from Mesh.attributes
 # ops whose q parameter is an offset into the constants, or an attribute index
 _Q_CONST = (O.OP_XFORM, O.OP_TABLE, O.OP_CURVES, O.OP_RAMP)
 
@@ -120,8 +122,8 @@ class ShadingRecord(NamedTuple):
 
     prog_ops: int32 (N,) all programs' instructions, constants and attributes relocated.
     prog_consts: float32 (M,) their constants.
-    mat_prog: int32 (K, 3) the start in prog_ops of each material's base colour, roughness
-        and emission program (-1 none).
+    mat_prog: int32 (K, 4) the start in prog_ops of each material's base colour, roughness,
+        emission and normal program (-1 none).
     tri_attr: float32 (T, 9·A) each triangle's corner values (3 corners × 3) of the A attributes.
     refl_row: int, the first of the three reflectance basis rows of the spectrum table (-1 none).
     emit_row: int, the first of the three emission basis rows (-1 none).
@@ -173,7 +175,7 @@ def pack(scene, prims, spec, cmf):
         o_base += ops.shape[0]
         c_base += prog.consts.shape[0]
     n = max(1, len(scene.materials))
-    mat_prog = np.full((n, 3), -1, np.int32)
+    mat_prog = np.full((n, len(PROGRAM_FIELDS)), -1, np.int32)
     for i, m in enumerate(scene.materials):
         for s, key in enumerate(PROGRAM_FIELDS):
             k = getattr(m, key, -1)
@@ -186,6 +188,8 @@ def pack(scene, prims, spec, cmf):
         rows = np.zeros((t, 9 * a), np.float32)
         for name, j in attr_index.items():
             v = (mesh.attributes or {}).get(name)
+            if name == WORLD_POSITION:
+                v = mesh.positions[mesh.indices].astype(np.float32)
             if v is not None:
                 rows[:, 9 * j:9 * j + 9] = np.asarray(v, np.float32).reshape(t, 9)
         parts.append(rows)
@@ -204,4 +208,4 @@ def add_sensor(rec):
     """``rec`` with the sensors' material: no programs."""
     if rec is None:
         return None
-    return rec._replace(mat_prog=np.concatenate([rec.mat_prog, np.full((1, 3), -1, np.int32)]))
+    return rec._replace(mat_prog=np.concatenate([rec.mat_prog, np.full((1, len(PROGRAM_FIELDS)), -1, np.int32)]))

@@ -252,6 +252,48 @@ def case_attribute(nt, tc):
     return h.outputs[0]
 
 
+def _tex(idname, out="Color", **props):
+    def case(nt, tc):
+        n = _node(nt, idname, **props)
+        if "Scale" in n.inputs:
+            n.inputs["Scale"].default_value = 3.0
+        nt.links.new(tc.outputs["Object"], n.inputs["Vector"])
+        return n.outputs[out]
+    return case
+
+
+def case_window(nt, tc):
+    return tc.outputs["Window"]
+
+
+def case_camera(nt, tc):
+    v = _node(nt, "ShaderNodeVectorMath", operation="MULTIPLY_ADD")
+    nt.links.new(tc.outputs["Camera"], v.inputs[0])
+    v.inputs[1].default_value = (0.4, 0.4, -0.1)
+    v.inputs[2].default_value = (0.5, 0.5, 0.0)
+    return v.outputs[0]
+
+
+def case_white_noise_cells(nt, tc):
+    v = _node(nt, "ShaderNodeVectorMath", operation="SNAP")
+    nt.links.new(tc.outputs["Generated"], v.inputs[0])
+    v.inputs[1].default_value = (0.125, 0.125, 0.125)
+    n = nt.nodes.new("ShaderNodeTexWhiteNoise")
+    nt.links.new(v.outputs[0], n.inputs["Vector"])
+    return n.outputs["Color"]
+
+
+def case_layer_weight_fresnel(nt, tc):
+    lw = nt.nodes.new("ShaderNodeLayerWeight")
+    lw.inputs["Blend"].default_value = 0.3
+    fr = nt.nodes.new("ShaderNodeFresnel")
+    c = nt.nodes.new("ShaderNodeCombineColor")
+    nt.links.new(lw.outputs["Fresnel"], c.inputs[0])
+    nt.links.new(lw.outputs["Facing"], c.inputs[1])
+    nt.links.new(fr.outputs[0], c.inputs[2])
+    return c.outputs[0]
+
+
 CASES = {
     "generated": case_generated, "uv": case_uv, "object_mapping": case_object_mapping, "math": case_math,
     "vector_math": case_vector_math, "mix_overlay": _mix("OVERLAY"), "mix_hue": _mix("HUE"),
@@ -262,6 +304,15 @@ CASES = {
     "rgb_curves": case_rgb_curves, "float_curve": case_float_curve, "blackbody": case_blackbody,
     "wavelength": case_wavelength, "clamp_value_rgb": case_clamp_value_rgb, "group_and_mute": case_group_and_mute,
     "vertex_colour": case_vertex_colour, "attribute": case_attribute,
+    "layer_weight_fresnel": case_layer_weight_fresnel,
+    "noise_fbm": _tex("ShaderNodeTexNoise"), "noise_ridged": _tex("ShaderNodeTexNoise", "Fac",
+                                                                  noise_type="RIDGED_MULTIFRACTAL"),
+    "voronoi_f1": _tex("ShaderNodeTexVoronoi"), "voronoi_edge": _tex("ShaderNodeTexVoronoi", "Distance",
+                                                                     feature="DISTANCE_TO_EDGE"),
+    "wave_rings": _tex("ShaderNodeTexWave", wave_type="RINGS"), "magic": _tex("ShaderNodeTexMagic"),
+    "checker": _tex("ShaderNodeTexChecker"), "brick": _tex("ShaderNodeTexBrick"),
+    "gradient_radial": _tex("ShaderNodeTexGradient", gradient_type="RADIAL"),
+    "white_noise_cells": case_white_noise_cells, "window": case_window, "camera": case_camera,
 }
 
 

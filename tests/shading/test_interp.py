@@ -327,3 +327,42 @@ def test_procedural_textures_are_wired_to_their_functions(t, props, socket, call
     want = np.atleast_1d(np.asarray(call(T, v), np.float64))
     np.testing.assert_allclose(got[:want.size] if want.size == 3 else got[0], want if want.size == 3 else want[0],
                                rtol=1e-5, atol=1e-6)
+
+
+def eval_on_triangle(prog):
+    """The interpreter's result at barycentrics (0.2, 0.3) of the triangle (0, 0, 0), (1, 0, 0),
+    (0, 1, 0) (normal +z), whose UV map is its x, y."""
+    corners = {"@world": [(0, 0, 0), (1, 0, 0), (0, 1, 0)], "uv:": [(0, 0, 0), (1, 0, 0), (0, 1, 0)]}
+    tri = np.zeros((1, 9 * max(1, len(prog.attributes))), np.float32)
+    for j, name in enumerate(prog.attributes):
+        tri[0, 9 * j:9 * j + 9] = np.ravel(corners[name])
+    ctx = (0.2, 0.3, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0)
+    consts = np.concatenate([prog.consts, np.zeros(1, np.float32)])
+    return np.array(run(prog.ops, consts, np.zeros(1, np.float32), np.zeros((1, 6), np.int64), tri,
+                        np.int64(0), np.int64(0), 0.2, 0.3, ctx, np.zeros(512, np.float32)))
+
+
+@pytest.mark.parametrize("strength, distance", [(1.0, 1.0), (1.0, 0.5), (0.5, 1.0)])
+def test_bump_of_a_linear_height_tilts_the_normal_by_its_gradient(strength, distance):
+    g = graph(geo=node("NEW_GEOMETRY"), s=node("SEPXYZ", {}, Vector=("link", "geo", "Position")),
+              hx=node("MATH", {"operation": "MULTIPLY"}, Value=("link", "s", "X"), Value_001=0.3),
+              h=node("MATH", {"operation": "MULTIPLY_ADD"}, Value=("link", "s", "Y"), Value_001=0.1,
+                     Value_002=("link", "hx", "Value")),
+              b=node("BUMP", {}, Height=("link", "h", "Value"), Strength=strength, Distance=distance))
+    got = eval_on_triangle(compile_output(g, ("link", "b", "Normal"), "vector"))
+    n = np.array([-0.3 * distance, -0.1 * distance, 1.0])
+    n /= np.linalg.norm(n)
+    if strength != 1.0:
+        n = strength * n + (1 - strength) * np.array([0, 0, 1.0])
+        n /= np.linalg.norm(n)
+    np.testing.assert_allclose(got, n, atol=2e-4)
+
+
+@pytest.mark.parametrize("space, colour, want", [
+    ("TANGENT", (1.0, 0.5, 0.5), (1, 0, 0)), ("TANGENT", (0.5, 1.0, 0.5), (0, 1, 0)),
+    ("TANGENT", (0.5, 0.5, 1.0), (0, 0, 1)), ("WORLD", (0.5, 0.5, 0.0), (0, 0, -1)),
+    ("BLENDER_WORLD", (0.5, 0.0, 0.5), (0, 1, 0))])
+def test_normal_map_spaces(space, colour, want):
+    g = graph(n=node("NORMAL_MAP", {"space": space}, Color=colour, Strength=1.0))
+    np.testing.assert_allclose(eval_on_triangle(compile_output(g, ("link", "n", "Normal"), "vector")), want,
+                               atol=1e-5)

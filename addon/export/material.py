@@ -43,7 +43,7 @@ from .convert import (
 from .nodes import (
     active_output, constant_input, ignored_links, image_node, image_pixels, input_value, normal_map_node,
     shader_inputs, surface_node)
-from .shading import compile_input, needs_program
+from .shading import compile_input as _compile_input, needs_program
 
 SUPPORTED_SURFACES = ("BSDF_PRINCIPLED", "BSDF_DIFFUSE", "BSDF_GLOSSY", "BSDF_METALLIC", "BSDF_GLASS",
                       "BSDF_REFRACTION", "BSDF_TRANSPARENT", "EMISSION", "MIX_SHADER", "ADD_SHADER")
@@ -365,6 +365,11 @@ def normal_input(ctx, owner, node):
     return index, max(float(1.0 if strength is None else strength), 0.0)
 
 
+def compile_input(ctx, owner, node, name, kind, **kw):
+    """export/shading.py compile_input with this module's image textures."""
+    return _compile_input(ctx, owner, node, name, kind, images=image_texture, **kw)
+
+
 def program_input(ctx, owner, node, name, kind):
     """(index into ctx.programs or None, constant or None) for input ``name`` of ``node`` driven
     by a node graph: the program, and the socket's own value for the models that cannot take
@@ -386,7 +391,11 @@ class ProgramEmission(tuple):
 
 
 def emission_term(ctx, owner, node, colour_name, strength_name):
-    """The (rgb, strength) term of an emitter node: a ProgramEmission when a graph drives it."""
+    """The (rgb, strength) term of an emitter node: a ProgramEmission when a graph drives it
+    (and its strength is not a constant 0)."""
+    strength = node.inputs.get(strength_name)
+    if strength is not None and not strength.is_linked and float(strength.default_value) == 0.0:
+        return BLACK, 0.0
     if needs_program(node.inputs.get(colour_name), "emission") or needs_program(node.inputs.get(strength_name),
                                                                                  "value"):
         term = ProgramEmission((1.0, 1.0, 1.0))

@@ -3,23 +3,12 @@ import numpy as np
 
 from .convert import points_to_world_metres
 from .material import export_material
-from .shading import corner_attributes, program_attributes
+from .shading import corner_attributes, program_attributes, render_uv_layer
 
 # Object types that Blender can turn into a mesh (modifiers and geometry nodes applied).
 GEOMETRY_TYPES = frozenset({"MESH", "CURVE", "SURFACE", "FONT", "META"})
 # Object types that never render anything: skipped without a warning.
 HELPER_TYPES = frozenset({"EMPTY", "CAMERA", "ARMATURE", "LATTICE", "LIGHT_PROBE", "SPEAKER"})
-
-
-def render_uv_layer(me):
-    """The UV map Cycles renders with (the active render one, else the active one), or None."""
-    layers = getattr(me, "uv_layers", None)
-    if layers is None or len(layers) == 0:
-        return None
-    for layer in layers:
-        if getattr(layer, "active_render", False):
-            return layer
-    return layers.active or layers[0]
 
 
 def corner_uvs(me):

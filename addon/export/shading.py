@@ -45,9 +45,10 @@ def _group_output(tree):
 class GraphBuilder:
     """The flat graph description of everything upstream of some sockets."""
 
-    def __init__(self, ctx, owner):
+    def __init__(self, ctx, owner, images=None):
         self.ctx = ctx
         self.owner = owner
+        self.images = images  # (ctx, owner, node, usage) -> (texture index, mean): export/material.py
         self.nodes = {}
         self.depth = 0
 
@@ -115,9 +116,9 @@ class GraphBuilder:
         elif t in ("CURVE_RGB", "CURVE_FLOAT"):
             props.update(_curve_table(node, t == "CURVE_RGB"))
         elif t == "TEX_IMAGE":
-            from .material import image_texture
-
-            index, _ = image_texture(self.ctx, self.owner, node, "colour")
+            index = -1
+            if self.images is not None:
+                index, _ = self.images(self.ctx, self.owner, node, "colour")
             props["texture"] = index
             props["uv_map"] = ""
         inputs = {}
@@ -173,13 +174,14 @@ def needs_program(sock, kind):
     return True
 
 
-def compile_input(ctx, owner, node, name, kind, scale=None, weight=1.0):
+def compile_input(ctx, owner, node, name, kind, scale=None, weight=1.0, images=None):
     """Index into ctx.programs of the program computing input ``name`` of ``node`` as ``kind``
     ("colour", "value", "vector"; ``scale``: the name of a second input multiplied in), or None when
-    the graph holds something unsupported (listed in the warning, the caller uses constants)."""
-    from ...core.shading import Unsupported, compile_output
+    the graph holds something unsupported (listed in the warning, the caller uses constants).
+    ``images``: how an Image Texture node becomes a core texture (export/material.py image_texture)."""
+    from ...core.shading.compiler import Unsupported, compile_output
 
-    b = GraphBuilder(ctx, owner)
+    b = GraphBuilder(ctx, owner, images)
     try:
         src = b.source(node.inputs[name])
         sc = b.source(node.inputs[scale]) if scale is not None else None
@@ -192,9 +194,8 @@ def compile_input(ctx, owner, node, name, kind, scale=None, weight=1.0):
                               camera=getattr(ctx, "camera_from_world", None), scale=sc,
                               weight=weight, window=getattr(ctx, "camera_window", None))
     except Unsupported as e:
-        label = b.nodes.get(e.node, {}) or {}
-        where = label.get("label", f"{owner}/{e.node}")
-        ctx.skip("shader nodes (the input's own value instead)", f"{where}: {e.why}")
+        ctx.skip("shader nodes (the input's own value instead)",
+                 f"{owner}/{node.name} input '{name}': '{e.node}' {e.why}")
         return None
     ctx.programs.append(prog)
     return len(ctx.programs) - 1
@@ -223,6 +224,17 @@ def program_attributes(ctx, material_indices):
         if m.model in (C.MAT_MIX, C.MAT_ADD) and m.params is not None and len(m.params) >= 3:
             stack += [int(m.params[1]), int(m.params[2])]
     return sorted(names)
+
+
+def render_uv_layer(me):
+    """The UV map Cycles renders with (the active render one, else the active one), or None."""
+    layers = getattr(me, "uv_layers", None)
+    if layers is None or len(layers) == 0:
+        return None
+    for layer in layers:
+        if getattr(layer, "active_render", False):
+            return layer
+    return layers.active or layers[0]
 
 
 def _corner_loops(me):
@@ -272,8 +284,6 @@ def _domain_values(me, attr, loops, width):
 def corner_attributes(ctx, obj, name, names):
     """{attribute name: float32 (T*3, 3)} of evaluated object ``obj`` for ``names`` (the
     corners in the order of core Mesh triangles: its loop triangles)."""
-    from .mesh import render_uv_layer
-
     if not names:
         return None
     try:

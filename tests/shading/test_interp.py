@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from spectral_gi.core.shading import compile_output, ops as O
-from spectral_gi.core.shading import compiler as K
+from spectral_gi.core.shading import compiler as K, ops as O
+from spectral_gi.core.shading.compiler import compile_output
 from spectral_gi.core.shading.interp import run
 from spectral_gi.core.shading.program import check
 from oracles import shading as oracle

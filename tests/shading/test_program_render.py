@@ -10,7 +10,7 @@ from spectral_gi.core.bsdfs.params import lambert_params
 from spectral_gi.core.integrators import render as R
 from spectral_gi.core.lights.record import world_emission_basis
 from spectral_gi.core.scene import Camera, Material, Mesh, RenderSettings, Scene, SpectrumTable, World, load, save
-from spectral_gi.core.shading import compile_output
+from spectral_gi.core.shading.compiler import compile_output
 
 pytestmark = pytest.mark.slow
 

@@ -274,6 +274,38 @@ def case_camera(nt, tc):
     return v.outputs[0]
 
 
+def _facing(nt, normal):
+    lw = nt.nodes.new("ShaderNodeLayerWeight")
+    lw.inputs["Blend"].default_value = 0.5
+    nt.links.new(normal, lw.inputs["Normal"])
+    c = nt.nodes.new("ShaderNodeCombineColor")
+    nt.links.new(lw.outputs["Facing"], c.inputs[0])
+    nt.links.new(lw.outputs["Fresnel"], c.inputs[1])
+    c.inputs[2].default_value = 0.3
+    return c.outputs[0]
+
+
+def case_bump(nt, tc):
+    s = _sep(nt, tc.outputs["Object"])
+    m = _node(nt, "ShaderNodeMath", operation="SINE")
+    k = _node(nt, "ShaderNodeMath", operation="MULTIPLY")
+    nt.links.new(s.outputs["X"], k.inputs[0])
+    k.inputs[1].default_value = 3.0
+    nt.links.new(k.outputs[0], m.inputs[0])
+    b = nt.nodes.new("ShaderNodeBump")
+    b.inputs["Distance"].default_value = 0.3
+    nt.links.new(m.outputs[0], b.inputs["Height"])
+    return _facing(nt, b.outputs[0])
+
+
+def case_normal_map_tangent(nt, tc):
+    n = nt.nodes.new("ShaderNodeNormalMap")
+    n.uv_map = "UVMap"
+    nt.links.new(tc.outputs["Generated"], n.inputs["Color"])
+    n.inputs["Strength"].default_value = 0.7
+    return _facing(nt, n.outputs[0])
+
+
 def case_white_noise_cells(nt, tc):
     v = _node(nt, "ShaderNodeVectorMath", operation="SNAP")
     nt.links.new(tc.outputs["Generated"], v.inputs[0])
@@ -313,6 +345,7 @@ CASES = {
     "checker": _tex("ShaderNodeTexChecker"), "brick": _tex("ShaderNodeTexBrick"),
     "gradient_radial": _tex("ShaderNodeTexGradient", gradient_type="RADIAL"),
     "white_noise_cells": case_white_noise_cells, "window": case_window, "camera": case_camera,
+    "bump": case_bump, "normal_map_tangent": case_normal_map_tangent,
 }
 
 

@@ -3,7 +3,8 @@
 ``evaluate(program, point)`` walks the instructions of a Program (core/shading/ops.py) with
 plain Python arithmetic, written from Blender's manual and Cycles' SVM formulas (colorsys for
 the HSV and HLS conversions), for a shading point given as a dict: P, N, Ng, I (3-sequences)
-and attrs, the program's attributes by name. Image Texture ops need ``image(q, u, v)``.
+and attrs, the program's attributes by name (or corners, each attribute's three corner
+values, and bary, the point's barycentrics). Image Texture ops need ``image(q, u, v)``.
 """
 import colorsys
 import math
@@ -234,6 +235,78 @@ def _fresnel(eta, cosi):
     return 0.5 * a * a * (1 + b * b)
 
 
+def _cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def _blend_normal(n_in, m, strength):
+    strength = max(strength, 0.0)
+    if strength == 1.0:
+        return m
+    return _normalize([x + (y - x) * strength for x, y in zip(n_in, m)])
+
+
+def _bump(scalars, pos, n_in, invert):
+    """Cycles' svm_node_set_bump, the differentials being the neighbours' offsets."""
+    hc, hx, hy, strength, dist = scalars
+    n_in = _normalize(n_in)
+    dpdx = [x - y for x, y in zip(pos[1], pos[0])]
+    dpdy = [x - y for x, y in zip(pos[2], pos[0])]
+    rx, ry = _cross(dpdy, n_in), _cross(n_in, dpdx)
+    det = _dot(dpdx, rx)
+    grad = [(hx - hc) * x + (hy - hc) * y for x, y in zip(rx, ry)]
+    dist = -dist if invert else dist
+    sign = (det > 0) - (det < 0)
+    m = _normalize([abs(det) * n - dist * sign * g for n, g in zip(n_in, grad)])
+    return _blend_normal(n_in, m, strength)
+
+
+def _normal_map(space, colour, strength, pos, uvs, n_in):
+    """Cycles' svm_node_normal_map: tangent space with the UV map's ∂p/∂u, or world space."""
+    n_in = _normalize(n_in)
+    c = [2 * x - 1 for x in colour]
+    if space == 0:
+        import numpy as np
+
+        e = np.array([np.subtract(pos[1], pos[0]), np.subtract(pos[2], pos[0])])
+        d = np.array([np.subtract(uvs[1], uvs[0])[:2], np.subtract(uvs[2], uvs[0])[:2]])
+        dp_duv = np.linalg.solve(d, e)  # rows ∂p/∂u, ∂p/∂v
+        t = dp_duv[0] - np.dot(dp_duv[0], n_in) * np.array(n_in)
+        t = list(t / np.linalg.norm(t))
+        b = _cross(n_in, t)
+        if _dot(b, dp_duv[1]) < 0:
+            b = [-x for x in b]
+        m = _normalize([c[0] * x + c[1] * y + c[2] * z for x, y, z in zip(t, b, n_in)])
+    elif space == 1:
+        m = _normalize(c)
+    else:
+        m = _normalize([c[0], -c[1], -c[2]])
+    return _blend_normal(n_in, m, strength)
+
+
+def _procedural(kind, st, args, _ops):
+    """The procedural textures through core/shading/procedural.py (the other helper's oracle
+    tests them against Cycles' formulas); here the operands and outputs are checked."""
+    from spectral_gi.core.shading import procedural as T
+
+    v, w = args[0], args[1]
+    f = args[2:]
+    i = [int(x) for x in st[:4]]
+    if kind == O.PROC_NOISE:
+        fac, r, g, b = T.noise_texture(*v, w, i[0], i[1], *f[:7], i[2], True)
+        return [r, g, b, fac]
+    if kind == O.PROC_VORONOI:
+        d, r, g, b, px, py, pz, wo, rad = T.voronoi_texture(*v, w, i[0], i[1], i[2], *f[:7], i[3])
+        return [r, g, b, px, py, pz, d, wo, rad]
+    if kind == O.PROC_WAVE:
+        x = T.wave_texture(*v, *i, *f[:6])
+        return [x, x, x, x]
+    if kind == O.PROC_MAGIC:
+        r, g, b, x = T.magic_texture(*v, i[0], f[0], f[1])
+        return [r, g, b, x]
+    raise ValueError(f"procedural kind {kind} not in the oracle")
+
+
 def evaluate(program, point, image=None):
     """The program's 3-vector result at ``point`` (see the module docstring)."""
     regs = [0.0] * (program.n_registers + 4)
@@ -255,8 +328,16 @@ def evaluate(program, point, image=None):
         if op == O.OP_COORD:
             put(out, point[("P", "N", "Ng", "I")[p]])
         elif op == O.OP_ATTR:
-            v = list(point["attrs"][program.attributes[q]])
-            put(out, _normalize(v) if p == 1 and any(v) else v)
+            name = program.attributes[q]
+            if "corners" in point:  # per-corner values, interpolated at the (offset) barycentrics
+                bu, bv = point["bary"]
+                bu += O.BUMP_DELTA if p & 2 else 0.0
+                bv += O.BUMP_DELTA if p & 4 else 0.0
+                c0, c1, c2 = point["corners"][name]
+                v = [(1 - bu - bv) * x + bu * y + bv * z for x, y, z in zip(c0, c1, c2)]
+            else:
+                v = list(point["attrs"][name])
+            put(out, _normalize(v) if p & 1 and any(v) else v)
         elif op == O.OP_XFORM:
             m = consts[q:q + 12]
             x = vec(a[0]) + [1.0 if p == O.XF_POINT else 0.0]
@@ -347,6 +428,13 @@ def evaluate(program, point, image=None):
         elif op == O.OP_IMAGE:
             uv = vec(a[0])
             put(out, list(image(q, uv[0], uv[1])) + [1.0])
+        elif op == O.OP_BUMP:
+            put(out, _bump([rd(k) for k in a[:5]], [vec(k) for k in a[5:8]], vec(a[8]), q & 1))
+        elif op == O.OP_NORMALMAP:
+            put(out, _normal_map(p, vec(a[0]), rd(a[1]), [vec(k) for k in a[2:5]], [vec(k) for k in a[5:8]],
+                                 vec(a[8])))
+        elif op == O.OP_PROC:
+            put(out, _procedural(p, consts[q:q + 6], [rd(k) if i else vec(k) for i, k in enumerate(a)], a))
         else:
             raise ValueError(f"op {op}")
     raise ValueError("no end")

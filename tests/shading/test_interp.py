@@ -322,7 +322,11 @@ def test_procedural_textures_are_wired_to_their_functions(t, props, socket, call
 
     g = graph(n=node(t, props))  # Vector unlinked: generated coordinates
     kind = "value" if socket in ("Fac", "Distance", "Value") else "vector"
-    got = interp_only(compile_output(g, ("link", "n", socket), kind))
+    prog = compile_output(g, ("link", "n", socket), kind)
+    got = interp_only(prog)
+    if t in ("TEX_NOISE", "TEX_VORONOI", "TEX_WAVE", "TEX_MAGIC"):
+        attrs32 = {k: tuple(float(np.float32(x)) for x in a) for k, a in ATTRS.items()}
+        np.testing.assert_allclose(got, oracle.evaluate(prog, dict(POINT, attrs=attrs32)), rtol=1e-5, atol=1e-6)
     v = tuple(float(np.float32(a)) for a in ATTRS["@generated"])  # the attribute table is float32
     want = np.atleast_1d(np.asarray(call(T, v), np.float64))
     np.testing.assert_allclose(got[:want.size] if want.size == 3 else got[0], want if want.size == 3 else want[0],
@@ -338,8 +342,11 @@ def eval_on_triangle(prog):
         tri[0, 9 * j:9 * j + 9] = np.ravel(corners[name])
     ctx = (0.2, 0.3, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0)
     consts = np.concatenate([prog.consts, np.zeros(1, np.float32)])
-    return np.array(run(prog.ops, consts, np.zeros(1, np.float32), np.zeros((1, 6), np.int64), tri,
-                        np.int64(0), np.int64(0), 0.2, 0.3, ctx, np.zeros(512, np.float32)))
+    got = np.array(run(prog.ops, consts, np.zeros(1, np.float32), np.zeros((1, 6), np.int64), tri,
+                       np.int64(0), np.int64(0), 0.2, 0.3, ctx, np.zeros(512, np.float32)))
+    point = {"P": ctx[:3], "N": ctx[3:6], "Ng": ctx[6:9], "I": ctx[9:], "corners": corners, "bary": (0.2, 0.3)}
+    np.testing.assert_allclose(got, oracle.evaluate(prog, point), rtol=1e-5, atol=1e-5)
+    return got
 
 
 @pytest.mark.parametrize("strength, distance", [(1.0, 1.0), (1.0, 0.5), (0.5, 1.0)])

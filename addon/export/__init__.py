@@ -156,11 +156,12 @@ def export_scene(depsgraph, scene=None, should_cancel=None, mesh_cache=None, cam
 
     if camera is None:
         camera = export_camera(ctx, scene, depsgraph)
-    if scene.camera is not None:  # Texture Coordinate's Camera output: world (metres) -> camera space
+    if scene.camera is not None:  # Texture Coordinate's Camera output: world (metres) -> Cycles' camera space
         import numpy as np
 
         m = np.linalg.inv(np.asarray(scene.camera.matrix_world, np.float64))
         m[:3, :3] /= ctx.scale_length
+        m[2] *= -1.0  # Cycles' camera space looks down +z (Blender's camera looks down −z)
         ctx.camera_from_world = m
         ctx.camera_window = camera_window(scene)
     meshes, lights = [], []

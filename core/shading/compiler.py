@@ -145,7 +145,7 @@ def compile_output(graph, source, kind, name="program", camera=None, scale=None,
     """The Program computing ``source`` (a link or a constant) as ``kind`` ("colour", "value",
     "vector"); ``scale``: a second source multiplied in (an emission's strength), ``weight`` a
     constant factor (the weight of the shader mixes above an emitter); ``camera`` the world →
-    camera matrix and ``window`` (orthographic, half width, half height of the frame: in
+    camera matrix (Cycles' camera space: x right, y up, z forward) and ``window`` (orthographic, half width, half height of the frame: in
     metres for an orthographic camera, at unit distance for a perspective one) for the
     Camera and Window coordinates."""
     c = Compiler(graph, camera, window)
@@ -382,13 +382,11 @@ def _window(c, name):
     cam = _camera(c, name)
     if ortho:
         v = cam
-    else:
-        nz = c.reg(1)
-        c.emit(O.OP_MATH, nz, [cam + 2, c.cf(-1.0), c.cf(0.0)], p=O.MATH["MULTIPLY"])
+    else:  # Cycles' camera space: z is the distance in front of the camera
         x = c.reg(1)
-        c.emit(O.OP_MATH, x, [cam, nz, c.cf(0.0)], p=O.MATH["DIVIDE"])
+        c.emit(O.OP_MATH, x, [cam, cam + 2, c.cf(0.0)], p=O.MATH["DIVIDE"])
         y = c.reg(1)
-        c.emit(O.OP_MATH, y, [cam + 1, nz, c.cf(0.0)], p=O.MATH["DIVIDE"])
+        c.emit(O.OP_MATH, y, [cam + 1, cam + 2, c.cf(0.0)], p=O.MATH["DIVIDE"])
         v = c.reg(3)
         c.emit(O.OP_COMBINE, v, [x, y, c.cf(0.0)])
     out = c.reg(3)

@@ -14,8 +14,9 @@ import pytest
 pytestmark = [pytest.mark.blender, pytest.mark.slow]
 
 RES = 48
-# enough samples that the spectral estimate's colour noise (four wavelengths a path) sits well
-# below the tolerance: at 16 it alone gives a mean ΔE00 of about 1.2 and a 99th percentile of 3.7
+# enough samples that the spectral estimate's colour noise (four wavelengths a path) sits below
+# the tolerance: at 16 samples the plain Generated coordinates measured a mean ΔE00 of 1.27 and
+# a 99th percentile of 3.67 (every other node alike), at 256 samples 0.25 and 2.8
 SAMPLES = 256
 FIGURES = {}
 
@@ -273,7 +274,7 @@ def case_window(nt, tc):
 def case_camera(nt, tc):
     v = _node(nt, "ShaderNodeVectorMath", operation="MULTIPLY_ADD")
     nt.links.new(tc.outputs["Camera"], v.inputs[0])
-    v.inputs[1].default_value = (0.4, 0.4, -0.1)
+    v.inputs[1].default_value = (0.4, 0.4, 0.1)  # Cycles camera space: z is the distance in front
     v.inputs[2].default_value = (0.5, 0.5, 0.0)
     return v.outputs[0]
 

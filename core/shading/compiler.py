@@ -145,9 +145,9 @@ def compile_output(graph, source, kind, name="program", camera=None, scale=None,
     """The Program computing ``source`` (a link or a constant) as ``kind`` ("colour", "value",
     "vector"); ``scale``: a second source multiplied in (an emission's strength), ``weight`` a
     constant factor (the weight of the shader mixes above an emitter); ``camera`` the world →
-    camera matrix (Cycles' camera space: x right, y up, z forward) and ``window`` (orthographic, half width, half height of the frame: in
-    metres for an orthographic camera, at unit distance for a perspective one) for the
-    Camera and Window coordinates."""
+    camera matrix (Cycles' camera space: x right, y up, z forward) and ``window``
+    (orthographic, half width, half height of the frame: in metres for an orthographic
+    camera, at unit distance for a perspective one) for the Camera and Window coordinates."""
     c = Compiler(graph, camera, window)
     want = "f" if kind == "value" else ("c" if kind == "colour" else "v")
     r = c.source(source, want)

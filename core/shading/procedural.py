@@ -6,14 +6,21 @@ pattern computed here matches the one Cycles renders for the same coordinates. T
 algorithms follow Cycles' kernel (``intern/cycles/kernel/svm/`` and ``util/hash.h`` in
 Blender 5.0): Bob Jenkins' lookup3 hash on the bits of single-precision coordinates,
 Perlin's gradient noise with Cycles' gradient sets and output scales, the fractal
-variants of the Noise node, the fractal Voronoi of Blender 4+, and the Wave, Magic,
-Checker, Brick, Gradient and White Noise nodes.
+variants of the Noise node, the fractal Voronoi of Blender 4+ (its 2D to 4D cells hashed
+by PCG of their integer coordinates, Jarzynski and Olano, JCGT 9(3) 2020, its 1D cells by
+lookup3 of the float coordinate), and the Wave, Magic, Checker, Brick, Gradient and White
+Noise nodes. ``tests/shading/test_procedural_cycles.py`` renders each with Cycles and
+compares pixel for pixel.
 
 Cycles computes in single precision. Here every value that is hashed or floored (the
 scaled coordinates, the fractal octaves' scaled points, the distorted points, the random
 seed offsets) is rounded to single precision exactly where Cycles rounds it, so lattice
 cells and hashes are the same bits; the smooth arithmetic in between runs in double
 precision and differs from Cycles' by rounding only (about 1e-7 relative).
+
+The textures are small ``inline`` entry points; the lattice work they repeat (Perlin
+noise, the fractal noise types, the Voronoi octaves) is in ``function`` helpers compiled
+once each, so a caller's compile does not grow with every inlined copy.
 
 The integer tags follow the order of Cycles' enums; the ``*_TYPES`` dictionaries map
 the identifiers of the bpy enum properties to them. Every function listed in
@@ -26,11 +33,12 @@ from llvmlite import ir
 from numba.core import types
 from numba.extending import intrinsic
 
-from ..jit import inline
+from ..jit import function, inline
 
 __all__ = [
     "hash_uint", "hash_uint2", "hash_uint3", "hash_uint4",
     "hash_float_to_float", "hash_float2_to_float", "hash_float3_to_float", "hash_float4_to_float",
+    "hash_int_to_point", "hash_int_to_color",
     "perlin_signed", "noise_texture", "voronoi_texture", "wave_texture", "magic_texture",
     "checker_texture", "brick_texture", "brick_color", "gradient_texture", "white_noise_texture",
 ]
@@ -62,7 +70,7 @@ _TWO_PI_F = float(np.float32(2.0 * math.pi))
 _HALF_PI_F = float(np.float32(0.5 * math.pi))
 _EPS_F = float(np.float32(1e-6))
 _SHRINK_F = float(np.float32(0.999999))
-_GAIN_INV = 2.0 ** -32
+_TWO_POW_M32 = 2.0 ** -32
 
 
 @intrinsic
@@ -162,7 +170,7 @@ def hash_uint4(kx, ky, kz, kw):
 @inline
 def _unit(n):
     """Cycles' ``uint_to_float_incl``: the hash rounded to float32, times 2**-32, in [0, 1]."""
-    return np.float64(np.float32(n)) * _GAIN_INV
+    return np.float64(np.float32(n)) * _TWO_POW_M32
 
 
 @inline
@@ -190,32 +198,95 @@ def hash_float4_to_float(x, y, z, w):
 
 
 @inline
-def _hash_to_color(c0, c1, c2, c3, dims):
-    """Cycles' ``hash_float{,2,3,4}_to_float3`` of the first ``dims`` components."""
-    if dims == 1:
-        return hash_float_to_float(c0), hash_float2_to_float(c0, 1.0), hash_float2_to_float(c0, 2.0)
-    if dims == 2:
-        return (hash_float2_to_float(c0, c1), hash_float3_to_float(c0, c1, 1.0),
-                hash_float3_to_float(c0, c1, 2.0))
-    if dims == 3:
-        return (hash_float3_to_float(c0, c1, c2), hash_float4_to_float(c0, c1, c2, 1.0),
-                hash_float4_to_float(c0, c1, c2, 2.0))
-    return (hash_float4_to_float(c0, c1, c2, c3), hash_float4_to_float(c2, c0, c3, c1),
-            hash_float4_to_float(c3, c2, c1, c0))
+def _i32(v):
+    """``v`` wrapped to a signed 32-bit integer (C's int overflow), as an int64."""
+    return ((v + 0x80000000) & _M) - 0x80000000
 
 
 @inline
-def _hash_to_point(c0, c1, c2, c3, dims):
-    """Cycles' ``hash_float{,2,3,4}_to_float{,2,3,4}`` (a cell's random point), padded with 0."""
+def _pcg2(x, y):
+    """Cycles' ``hash_pcg2d_i``: PCG 2D (Jarzynski and Olano 2020) on signed 32-bit ints."""
+    x = _i32(x * 1664525 + 1013904223)
+    y = _i32(y * 1664525 + 1013904223)
+    x = _i32(x + y * 1664525)
+    y = _i32(y + x * 1664525)
+    x, y = x ^ (x >> 16), y ^ (y >> 16)
+    x = _i32(x + y * 1664525)
+    y = _i32(y + x * 1664525)
+    return x & 0x7FFFFFFF, y & 0x7FFFFFFF
+
+
+@inline
+def _pcg3(x, y, z):
+    """Cycles' ``hash_pcg3d_i``."""
+    x = _i32(x * 1664525 + 1013904223)
+    y = _i32(y * 1664525 + 1013904223)
+    z = _i32(z * 1664525 + 1013904223)
+    x = _i32(x + y * z)
+    y = _i32(y + z * x)
+    z = _i32(z + x * y)
+    x, y, z = x ^ (x >> 16), y ^ (y >> 16), z ^ (z >> 16)
+    x = _i32(x + y * z)
+    y = _i32(y + z * x)
+    z = _i32(z + x * y)
+    return x & 0x7FFFFFFF, y & 0x7FFFFFFF, z & 0x7FFFFFFF
+
+
+@inline
+def _pcg4(x, y, z, w):
+    """Cycles' ``hash_pcg4d_i``."""
+    x = _i32(x * 1664525 + 1013904223)
+    y = _i32(y * 1664525 + 1013904223)
+    z = _i32(z * 1664525 + 1013904223)
+    w = _i32(w * 1664525 + 1013904223)
+    x = _i32(x + y * w)
+    y = _i32(y + z * x)
+    z = _i32(z + x * y)
+    w = _i32(w + y * z)
+    x, y, z, w = x ^ (x >> 16), y ^ (y >> 16), z ^ (z >> 16), w ^ (w >> 16)
+    x = _i32(x + y * w)
+    y = _i32(y + z * x)
+    z = _i32(z + x * y)
+    w = _i32(w + y * z)
+    return x & 0x7FFFFFFF, y & 0x7FFFFFFF, z & 0x7FFFFFFF, w & 0x7FFFFFFF
+
+
+@inline
+def _unit31(h):
+    """Cycles' ``hash_int*_to_float*`` scaling: the hash rounded to float32, times 2**-31."""
+    return np.float64(np.float32(h)) * 2.0 ** -31
+
+
+@inline
+def hash_int_to_point(c0, c1, c2, c3, dims):
+    """A Voronoi cell's random point in [0, 1]^dims, padded with 0: Cycles'
+    ``hash_float_to_float`` of the cell's float coordinate in 1D, ``hash_int{2,3,4}_to_float{2,3,4}``
+    (PCG) of its integer coordinates in 2D to 4D.
+
+    ``c0 .. c3``: the cell's integer coordinates (integral floats); ``dims``: 1 to 4."""
     if dims == 1:
         return hash_float_to_float(c0), 0.0, 0.0, 0.0
     if dims == 2:
-        return hash_float2_to_float(c0, c1), hash_float3_to_float(c0, c1, 1.0), 0.0, 0.0
+        a, b = _pcg2(np.int64(c0), np.int64(c1))
+        return _unit31(a), _unit31(b), 0.0, 0.0
     if dims == 3:
-        return (hash_float3_to_float(c0, c1, c2), hash_float4_to_float(c0, c1, c2, 1.0),
-                hash_float4_to_float(c0, c1, c2, 2.0), 0.0)
-    return (hash_float4_to_float(c0, c1, c2, c3), hash_float4_to_float(c3, c0, c1, c2),
-            hash_float4_to_float(c2, c3, c0, c1), hash_float4_to_float(c1, c2, c3, c0))
+        a, b, c = _pcg3(np.int64(c0), np.int64(c1), np.int64(c2))
+        return _unit31(a), _unit31(b), _unit31(c), 0.0
+    a, b, c, d = _pcg4(np.int64(c0), np.int64(c1), np.int64(c2), np.int64(c3))
+    return _unit31(a), _unit31(b), _unit31(c), _unit31(d)
+
+
+@inline
+def hash_int_to_color(c0, c1, c2, c3, dims):
+    """A Voronoi cell's colour: ``hash_float_to_float3`` in 1D, ``hash_int{2,3,4}_to_float3``
+    (PCG; 2D hashes ``(x, y, 0)`` in 3D) in 2D to 4D. Arguments as ``hash_int_to_point``."""
+    if dims == 1:
+        return hash_float_to_float(c0), hash_float2_to_float(c0, 1.0), hash_float2_to_float(c0, 2.0)
+    if dims == 2:
+        a, b, c = _pcg3(np.int64(c0), np.int64(c1), np.int64(0))
+        return _unit31(a), _unit31(b), _unit31(c)
+    h0, h1, h2, _ = hash_int_to_point(c0, c1, c2, c3, dims)
+    return h0, h1, h2
 
 
 # ---------------------------------------------------------------- Perlin noise
@@ -355,7 +426,7 @@ def _wrap(p):
     return _f32(np.fmod(p, 100000.0) + corr)
 
 
-@inline
+@function
 def perlin_signed(p0, p1, p2, p3, dims):
     """Cycles' signed Perlin noise ``snoise_{1,2,3,4}d``, about [-1, 1].
 
@@ -466,7 +537,7 @@ def _ridged_multi_fractal(p0, p1, p2, p3, dims, detail, roughness, lacunarity, o
     return value
 
 
-@inline
+@function
 def _noise_select(p0, p1, p2, p3, dims, noise_type, detail, roughness, lacunarity, offset, gain, normalize):
     if noise_type == NOISE_MULTIFRACTAL:
         return _multi_fractal(p0, p1, p2, p3, dims, detail, roughness, lacunarity)
@@ -501,6 +572,19 @@ def _offset_point(p0, p1, p2, p3, dims, seed):
 
 
 @inline
+def _scaled_point(x, y, z, w, dims, scale):
+    """The node's point times Scale in single precision, as the components ``p0 .. p3`` the
+    lattice functions take: ``(w)`` in 1D, ``(x, y)``, ``(x, y, z)``, ``(x, y, z, w)``, padded with 0."""
+    if dims == 1:
+        return _f32(w * scale), 0.0, 0.0, 0.0
+    if dims == 2:
+        return _f32(x * scale), _f32(y * scale), 0.0, 0.0
+    if dims == 3:
+        return _f32(x * scale), _f32(y * scale), _f32(z * scale), 0.0
+    return _f32(x * scale), _f32(y * scale), _f32(z * scale), _f32(w * scale)
+
+
+@inline
 def noise_texture(x, y, z, w, dims, noise_type, scale, detail, roughness, lacunarity, offset, gain,
                   distortion, normalize, want_color):
     """Blender's Noise Texture node (Blender 4+), as Cycles' ``svm_node_tex_noise``.
@@ -516,10 +600,7 @@ def noise_texture(x, y, z, w, dims, noise_type, scale, detail, roughness, lacuna
     Returns ``(fac, r, g, b)``: the Fac output and the Color output."""
     detail = min(max(detail, 0.0), 15.0)
     roughness = max(roughness, 0.0)
-    if dims == 1:
-        p0, p1, p2, p3 = _f32(w * scale), 0.0, 0.0, 0.0
-    else:
-        p0, p1, p2, p3 = _f32(x * scale), _f32(y * scale), _f32(z * scale), _f32(w * scale)
+    p0, p1, p2, p3 = _scaled_point(x, y, z, w, dims, scale)
     if distortion != 0.0:
         d0, d1, d2, d3 = 0.0, 0.0, 0.0, 0.0
         q0, q1, q2, q3 = _offset_point(p0, p1, p2, p3, dims, 0.0)
@@ -585,7 +666,7 @@ def _cell(p0, p1, p2, p3):
     return c0, c1, c2, c3, p0 - c0, p1 - c1, p2 - c2, p3 - c3
 
 
-@inline
+@function
 def _voronoi_f(p0, p1, p2, p3, dims, metric, exponent, randomness, second):
     """One octave of F1 (``second`` false) or F2: (distance, r, g, b, position 0..3)."""
     c0, c1, c2, c3, l0, l1, l2, l3 = _cell(p0, p1, p2, p3)
@@ -601,7 +682,7 @@ def _voronoi_f(p0, p1, p2, p3, dims, metric, exponent, randomness, second):
         for k in range(-r2, r2 + 1):
             for j in range(-r1, r1 + 1):
                 for i in range(-1, 2):
-                    h0, h1, h2, h3 = _hash_to_point(c0 + i, c1 + j, c2 + k, c3 + u, dims)
+                    h0, h1, h2, h3 = hash_int_to_point(c0 + i, c1 + j, c2 + k, c3 + u, dims)
                     q = (i + h0 * randomness, j + h1 * randomness, k + h2 * randomness, u + h3 * randomness)
                     d = _metric(q[0] - l0, q[1] - l1, q[2] - l2, q[3] - l3, dims, metric, exponent)
                     off = (float(i), float(j), float(k), float(u))
@@ -612,11 +693,11 @@ def _voronoi_f(p0, p1, p2, p3, dims, metric, exponent, randomness, second):
                         d2, o2, q2 = d, off, q
     if second:
         d1, o1, q1 = d2, o2, q2
-    r, g, b = _hash_to_color(c0 + o1[0], c1 + o1[1], c2 + o1[2], c3 + o1[3], dims)
+    r, g, b = hash_int_to_color(c0 + o1[0], c1 + o1[1], c2 + o1[2], c3 + o1[3], dims)
     return d1, r, g, b, q1[0] + c0, q1[1] + c1, q1[2] + c2, q1[3] + c3
 
 
-@inline
+@function
 def _voronoi_smooth_f1(p0, p1, p2, p3, dims, metric, exponent, randomness, smoothness):
     """One octave of Smooth F1: (distance, r, g, b, position 0..3)."""
     c0, c1, c2, c3, l0, l1, l2, l3 = _cell(p0, p1, p2, p3)
@@ -630,7 +711,7 @@ def _voronoi_smooth_f1(p0, p1, p2, p3, dims, metric, exponent, randomness, smoot
         for k in range(-r2, r2 + 1):
             for j in range(-r1, r1 + 1):
                 for i in range(-2, 3):
-                    h0, h1, h2, h3 = _hash_to_point(c0 + i, c1 + j, c2 + k, c3 + u, dims)
+                    h0, h1, h2, h3 = hash_int_to_point(c0 + i, c1 + j, c2 + k, c3 + u, dims)
                     q0, q1, q2, q3 = i + h0 * randomness, j + h1 * randomness, k + h2 * randomness, \
                         u + h3 * randomness
                     d = _metric(q0 - l0, q1 - l1, q2 - l2, q3 - l3, dims, metric, exponent)
@@ -638,14 +719,14 @@ def _voronoi_smooth_f1(p0, p1, p2, p3, dims, metric, exponent, randomness, smoot
                     corr = smoothness * h * (1.0 - h)
                     sd = _lerp(sd, d, h) - corr
                     corr /= 1.0 + 3.0 * smoothness
-                    cr, cg, cb = _hash_to_color(c0 + i, c1 + j, c2 + k, c3 + u, dims)
+                    cr, cg, cb = hash_int_to_color(c0 + i, c1 + j, c2 + k, c3 + u, dims)
                     sr, sg, sb = _lerp(sr, cr, h) - corr, _lerp(sg, cg, h) - corr, _lerp(sb, cb, h) - corr
                     s0, s1 = _lerp(s0, q0, h) - corr, _lerp(s1, q1, h) - corr
                     s2, s3 = _lerp(s2, q2, h) - corr, _lerp(s3, q3, h) - corr
     return sd, sr, sg, sb, c0 + s0, c1 + s1, c2 + s2, c3 + s3
 
 
-@inline
+@function
 def _voronoi_edge(p0, p1, p2, p3, dims, randomness):
     """One octave of Distance to Edge."""
     c0, c1, c2, c3, l0, l1, l2, l3 = _cell(p0, p1, p2, p3)
@@ -662,7 +743,7 @@ def _voronoi_edge(p0, p1, p2, p3, dims, randomness):
         for k in range(-r2, r2 + 1):
             for j in range(-1, 2):
                 for i in range(-1, 2):
-                    h0, h1, h2, h3 = _hash_to_point(c0 + i, c1 + j, c2 + k, c3 + u, dims)
+                    h0, h1, h2, h3 = hash_int_to_point(c0 + i, c1 + j, c2 + k, c3 + u, dims)
                     t0, t1 = i + h0 * randomness - l0, j + h1 * randomness - l1
                     t2, t3 = k + h2 * randomness - l2, u + h3 * randomness - l3
                     d = t0 * t0 + t1 * t1 + t2 * t2 + t3 * t3
@@ -674,7 +755,7 @@ def _voronoi_edge(p0, p1, p2, p3, dims, randomness):
         for k in range(-r2, r2 + 1):
             for j in range(-1, 2):
                 for i in range(-1, 2):
-                    h0, h1, h2, h3 = _hash_to_point(c0 + i, c1 + j, c2 + k, c3 + u, dims)
+                    h0, h1, h2, h3 = hash_int_to_point(c0 + i, c1 + j, c2 + k, c3 + u, dims)
                     t0, t1 = i + h0 * randomness - l0, j + h1 * randomness - l1
                     t2, t3 = k + h2 * randomness - l2, u + h3 * randomness - l3
                     e0, e1, e2, e3 = t0 - v0, t1 - v1, t2 - v2, t3 - v3
@@ -686,7 +767,7 @@ def _voronoi_edge(p0, p1, p2, p3, dims, randomness):
     return best
 
 
-@inline
+@function
 def _voronoi_radius(p0, p1, p2, p3, dims, randomness):
     """N-Sphere Radius: half the distance from the closest point to its closest neighbour."""
     c0, c1, c2, c3, l0, l1, l2, l3 = _cell(p0, p1, p2, p3)
@@ -700,7 +781,7 @@ def _voronoi_radius(p0, p1, p2, p3, dims, randomness):
         for k in range(-r2, r2 + 1):
             for j in range(-r1, r1 + 1):
                 for i in range(-1, 2):
-                    h0, h1, h2, h3 = _hash_to_point(c0 + i, c1 + j, c2 + k, c3 + u, dims)
+                    h0, h1, h2, h3 = hash_int_to_point(c0 + i, c1 + j, c2 + k, c3 + u, dims)
                     t = (i + h0 * randomness, j + h1 * randomness, k + h2 * randomness, u + h3 * randomness)
                     d = _metric(t[0] - l0, t[1] - l1, t[2] - l2, t[3] - l3, dims, VORONOI_EUCLIDEAN, 1.0)
                     if d < best:
@@ -714,7 +795,7 @@ def _voronoi_radius(p0, p1, p2, p3, dims, randomness):
                     if i == 0 and j == 0 and k == 0 and u == 0:
                         continue
                     f0, f1, f2, f3 = i + o[0], j + o[1], k + o[2], u + o[3]
-                    h0, h1, h2, h3 = _hash_to_point(c0 + f0, c1 + f1, c2 + f2, c3 + f3, dims)
+                    h0, h1, h2, h3 = hash_int_to_point(c0 + f0, c1 + f1, c2 + f2, c3 + f3, dims)
                     t = (f0 + h0 * randomness, f1 + h1 * randomness, f2 + h2 * randomness, f3 + h3 * randomness)
                     d = _metric(q[0] - t[0], q[1] - t[1], q[2] - t[2], q[3] - t[3], dims, VORONOI_EUCLIDEAN, 1.0)
                     if d < best:
@@ -818,10 +899,7 @@ def voronoi_texture(x, y, z, w, dims, feature, metric, scale, detail, roughness,
     roughness = min(max(roughness, 0.0), 1.0)
     randomness = min(max(randomness, 0.0), 1.0)
     smoothness = min(max(smoothness / 2.0, 0.0), 0.5)
-    if dims == 1:
-        p0, p1, p2, p3 = _f32(w * scale), 0.0, 0.0, 0.0
-    else:
-        p0, p1, p2, p3 = _f32(x * scale), _f32(y * scale), _f32(z * scale), _f32(w * scale)
+    p0, p1, p2, p3 = _scaled_point(x, y, z, w, dims, scale)
     if feature == VORONOI_DISTANCE_TO_EDGE:
         d = _fractal_voronoi_edge(p0, p1, p2, p3, dims, randomness, detail, roughness, lacunarity, normalize)
         return d, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
@@ -942,8 +1020,8 @@ def checker_texture(x, y, z, scale, r1, g1, b1, r2, g2, b2):
     yi = abs(np.int64(np.floor(_f32(_f32(_f32(y * scale) + _EPS_F) * _SHRINK_F))))
     zi = abs(np.int64(np.floor(_f32(_f32(_f32(z * scale) + _EPS_F) * _SHRINK_F))))
     if ((xi % 2) == (yi % 2)) == (zi % 2 == 1):
-        return r1, g1, b1, 1.0
-    return r2, g2, b2, 0.0
+        return float(r1), float(g1), float(b1), 1.0
+    return float(r2), float(g2), float(b2), 0.0
 
 
 @inline
@@ -996,9 +1074,10 @@ def brick_color(tint, fac, r1, g1, b1, r2, g2, b2, rm, gm, bm):
     sockets Color1 ``(r1, g1, b1)``, Color2 ``(r2, g2, b2)`` and Mortar ``(rm, gm, bm)``.
 
     Returns ``(r, g, b)``."""
+    r, g, b = float(r1), float(g1), float(b1)
     if fac != 1.0:
-        r1, g1, b1 = (1.0 - tint) * r1 + tint * r2, (1.0 - tint) * g1 + tint * g2, (1.0 - tint) * b1 + tint * b2
-    return r1 * (1.0 - fac) + rm * fac, g1 * (1.0 - fac) + gm * fac, b1 * (1.0 - fac) + bm * fac
+        r, g, b = (1.0 - tint) * r + tint * r2, (1.0 - tint) * g + tint * g2, (1.0 - tint) * b + tint * b2
+    return r * (1.0 - fac) + rm * fac, g * (1.0 - fac) + gm * fac, b * (1.0 - fac) + bm * fac
 
 
 @inline

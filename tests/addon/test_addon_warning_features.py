@@ -19,7 +19,7 @@ def test_every_unsupported_feature_is_named_in_the_warning(ext, bpy):
     node.inputs["Sheen Weight"].default_value = 0.3
     noise = tree.nodes.new("ShaderNodeTexGabor")  # a texture shader programs do not support
     noise.name = "Grain"
-    tree.links.new(noise.outputs["Color"], node.inputs["Base Color"])
+    tree.links.new(noise.outputs[0], node.inputs["Base Color"])
     floor = b.plane("Floor", size=4.0, material=mat)
     floor.is_shadow_catcher = True
     ghost = b.cube("Ghost", location=(0.0, 0.0, 1.0))

@@ -151,6 +151,25 @@ def object_features(ctx, obj, name, light=False):
         ctx.skip("shadow catchers (rendered as ordinary surfaces)", name)
 
 
+def camera_window(scene):
+    """(orthographic, half width, half height) of the scene camera's frame (Blender units for an
+    orthographic camera, at unit distance for a perspective one), for Window coordinates."""
+    cam = scene.camera.data
+    r = scene.render
+    xr = r.resolution_x * r.pixel_aspect_x
+    yr = r.resolution_y * r.pixel_aspect_y
+    fit = getattr(cam, "sensor_fit", "AUTO")
+    horizontal = fit == "HORIZONTAL" or (fit == "AUTO" and xr >= yr)
+    if cam.type == "ORTHO":
+        size = cam.ortho_scale / 2.0
+    else:
+        sensor = cam.sensor_width if fit in ("AUTO", "HORIZONTAL") else cam.sensor_height
+        size = sensor / 2.0 / cam.lens
+    if horizontal:
+        return cam.type == "ORTHO", size, size * yr / xr
+    return cam.type == "ORTHO", size * xr / yr, size
+
+
 def export_scene(depsgraph, scene=None, should_cancel=None, mesh_cache=None, camera=None):
     """Export the scene evaluated by ``depsgraph``. ``should_cancel()`` is checked between objects.
 
@@ -170,6 +189,14 @@ def export_scene(depsgraph, scene=None, should_cancel=None, mesh_cache=None, cam
 
     if camera is None:
         camera = export_camera(ctx, scene, depsgraph)
+    if scene.camera is not None:  # Texture Coordinate's Camera output: world (metres) -> Cycles' camera space
+        import numpy as np
+
+        m = np.linalg.inv(np.asarray(scene.camera.matrix_world, np.float64))
+        m[:3, :3] /= ctx.scale_length
+        m[2] *= -1.0  # Cycles' camera space looks down +z (Blender's camera looks down −z)
+        ctx.camera_from_world = m
+        ctx.camera_window = camera_window(scene)
     meshes, lights = [], []
     mesh_owners, emitters = [], []  # the names of each mesh's objects; (core record, linking object)
     cache = {}
@@ -254,7 +281,7 @@ def export_scene(depsgraph, scene=None, should_cancel=None, mesh_cache=None, cam
     if not ctx.materials:
         ctx.default_material()
     result = Scene(meshes=meshes, spectra=ctx.spectra, materials=ctx.materials, ior_tables=ctx.ior_tables,
-                   media=ctx.media, textures=ctx.textures, lights=lights, camera=camera,
+                   media=ctx.media, textures=ctx.textures, programs=ctx.programs, lights=lights, camera=camera,
                    profiles=getattr(ctx, "profiles", []),
                    world=core_world, settings=render_settings(scene),
                    metadata={"source": "Blender " + bpy.app.version_string, "scene": scene.name,

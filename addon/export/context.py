@@ -42,6 +42,7 @@ class ExportContext:
         self._medium_index = {}
         self.textures = []  # core Texture records (image textures), see material.image_texture
         self.texture_index = {}  # (image, usage, interpolation, extension) -> (index or -1, mean)
+        self.programs = []  # core shader programs (node graphs), see export/shading.py
         self._spectrum_index = {}
         # (kind, rgb, coefficients) → the fitted spectrum, kept across exports by the viewport
         self._uplift = uplift_cache if uplift_cache is not None else {}

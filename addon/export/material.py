@@ -43,6 +43,7 @@ from .convert import (
 from .nodes import (
     active_output, constant_input, ignored_links, image_node, image_pixels, input_value, normal_map_node,
     shader_inputs, surface_node)
+from .shading import compile_input as _compile_input, needs_program
 
 SUPPORTED_SURFACES = ("BSDF_PRINCIPLED", "BSDF_DIFFUSE", "BSDF_GLOSSY", "BSDF_METALLIC", "BSDF_GLASS",
                       "BSDF_REFRACTION", "BSDF_TRANSPARENT", "EMISSION", "MIX_SHADER", "ADD_SHADER",
@@ -365,13 +366,81 @@ def normal_input(ctx, owner, node):
     return index, max(float(1.0 if strength is None else strength), 0.0)
 
 
-def textured_leaf(leaf, base=-1, rough=-1, normal=-1, strength=1.0):
-    """``leaf`` with the textures its model supports (base colour on its ``ra``, GGX roughness, normal map)."""
+def compile_input(ctx, owner, node, name, kind, **kw):
+    """export/shading.py compile_input with this module's image textures."""
+    return _compile_input(ctx, owner, node, name, kind, images=image_texture, **kw)
+
+
+def program_input(ctx, owner, node, name, kind):
+    """(index into ctx.programs or None, constant or None) for input ``name`` of ``node`` driven
+    by a node graph: the program, and the socket's own value for the models that cannot take
+    one. (None, None) when the input needs no program (the caller reads it as usual)."""
+    sock = node.inputs.get(name)
+    if not needs_program(sock, kind):
+        return None, None
+    prog = compile_input(ctx, owner, node, name, "value" if kind == "roughness" else "colour")
+    value = float(sock.default_value) if kind == "roughness" else rgb_of(sock.default_value)
+    return prog, value
+
+
+class ProgramEmission(tuple):
+    """An emitter term whose colour or strength a node graph drives: white, remembering the node
+    and its colour and strength inputs (compiled with the weight of the mixes above it)."""
+
+    node = None
+    names = ("Color", "Strength")
+
+
+def emission_term(ctx, owner, node, colour_name, strength_name):
+    """The (rgb, strength) term of an emitter node: a ProgramEmission when a graph drives it
+    (and its strength is not a constant 0)."""
+    strength = node.inputs.get(strength_name)
+    if strength is not None and not strength.is_linked and float(strength.default_value) == 0.0:
+        return BLACK, 0.0
+    if needs_program(node.inputs.get(colour_name), "emission") or needs_program(node.inputs.get(strength_name),
+                                                                                 "value"):
+        term = ProgramEmission((1.0, 1.0, 1.0))
+        term.node = node
+        term.names = (colour_name, strength_name)
+        return term, 1.0
+    return (input_value(ctx, owner, node, (colour_name,), "colour"),
+            input_value(ctx, owner, node, (strength_name,), "value"))
+
+
+def normal_slot(ctx, owner, node):
+    """(normal texture or -1, strength, normal program or None) of the Normal input of ``node``:
+    a tangent-space Normal Map of an image on the render UV map takes the texture path, any
+    other node graph there (Bump, Normal Map of another UV map or space, ...) a program."""
+    from .nodes import linked_node
+
+    nmap = normal_map_node(node)
+    if (nmap is not None and getattr(nmap, "space", "TANGENT") == "TANGENT" and not getattr(nmap, "uv_map", "")
+            and image_node(nmap, "Color") is not None and not needs_program(nmap.inputs.get("Color"), "colour")
+            and not (nmap.inputs["Strength"].is_linked and linked_node(nmap.inputs["Strength"]) is not None)):
+        return (*normal_input(ctx, owner, node), None)
+    sock = node.inputs.get("Normal")
+    if sock is not None and sock.is_linked and linked_node(sock) is not None:
+        prog = compile_input(ctx, owner, node, "Normal", "vector")
+        if prog is not None:
+            return -1, 1.0, prog
+    return (*normal_input(ctx, owner, node), None)
+
+
+def textured_leaf(leaf, base=-1, rough=-1, normal=-1, strength=1.0, base_prog=None, rough_prog=None,
+                  normal_prog=None):
+    """``leaf`` with the textures and programs its model supports (base colour on its ``ra``, GGX
+    roughness, normal map)."""
     from ...core import constants as C
 
     if leaf is None or leaf[0] != "leaf":
         return leaf
     m = leaf[1]
+    if base_prog is not None and m.model in (C.MAT_LAMBERT, C.MAT_PLASTIC, C.MAT_DIELECTRIC, C.MAT_GGX_DIELECTRIC):
+        m.base_colour_program = base_prog
+    if rough_prog is not None and m.model in (C.MAT_GGX_CONDUCTOR, C.MAT_GGX_DIELECTRIC, C.MAT_PLASTIC):
+        m.roughness_program = rough_prog
+    if normal_prog is not None and m.model not in (C.MAT_MIX, C.MAT_ADD, C.MAT_NULL):
+        m.normal_program = normal_prog
     if base >= 0 and m.model in (C.MAT_LAMBERT, C.MAT_PLASTIC, C.MAT_DIELECTRIC, C.MAT_GGX_DIELECTRIC):
         m.base_colour_texture = base
     if rough >= 0 and m.model in (C.MAT_GGX_CONDUCTOR, C.MAT_GGX_DIELECTRIC, C.MAT_PLASTIC):
@@ -398,20 +467,26 @@ def _principled(ctx, owner, node):
         return default if v is None else v
 
     base_tex, base = texture_input(ctx, owner, node, "Base Color", "colour")
+    base_prog = None
+    if base is None:
+        base_prog, base = program_input(ctx, owner, node, "Base Color", "colour")
     if base is None:
         base = col("Base Color", (0.8, 0.8, 0.8))
     metallic = min(max(val("Metallic"), 0.0), 1.0)
     transmission = min(max(val("Transmission Weight"), 0.0), 1.0)
     alpha = min(max(val("Alpha", 1.0), 0.0), 1.0)
     rough_tex, roughness = texture_input(ctx, owner, node, "Roughness", "roughness")
+    rough_prog = None
+    if roughness is None:
+        rough_prog, roughness = program_input(ctx, owner, node, "Roughness", "roughness")
     if roughness is None:
         roughness = val("Roughness", 0.5)
     ax, ay = principled_alpha(roughness, val("Anisotropic"))
-    if rough_tex >= 0:
+    if rough_tex >= 0 or rough_prog is not None:
         if val("Anisotropic") > 0.0:
             ctx.note(f"{owner}: '{node.name}' roughness texture rendered isotropic (anisotropy ignored)")
         ax = ay = max(ax, ay, 2.0 * SMOOTH_ALPHA)  # a GGX model, whose α the texture sets per point
-    normal_tex, normal_strength = normal_input(ctx, owner, node)
+    normal_tex, normal_strength, normal_prog = normal_slot(ctx, owner, node)
     ior = _ior(ctx, owner, val("IOR", 1.5))
     spec_tint = col("Specular Tint")
     level = val("Specular IOR Level", 0.5)
@@ -419,8 +494,8 @@ def _principled(ctx, owner, node):
         ctx.note(f"{owner}: anisotropic rotation ignored (the tangent frame is the renderer's own)")
     if getattr(node, "distribution", "GGX") not in GGX_DISTRIBUTIONS:
         ctx.note(f"{owner}: '{node.name}' distribution {node.distribution} rendered as GGX")
-    ignored_links(ctx, owner, node, ("Tangent", "Coat Normal") if normal_tex >= 0 else
-                  ("Normal", "Tangent", "Coat Normal"))
+    ignored_links(ctx, owner, node, ("Tangent", "Coat Normal") if normal_tex >= 0 or normal_prog is not None
+                  else ("Normal", "Tangent", "Coat Normal"))
     for inp, what, substitute in PRINCIPLED_UNSUPPORTED:
         v = val(inp)
         if v > 0.0:
@@ -454,15 +529,18 @@ def _principled(ctx, owner, node):
                             ior=coat_ior)
     if metal is not None and base_tex >= 0:
         ctx.note(f"{owner}: a metal's base colour texture is not supported, used the image's mean colour")
-    textures = dict(rough=rough_tex, normal=normal_tex, strength=normal_strength)
+    if metal is not None and base_prog is not None:
+        ctx.note(f"{owner}: a metal's base colour node graph is not supported, used the socket's own colour")
+    textures = dict(rough=rough_tex, normal=normal_tex, strength=normal_strength, rough_prog=rough_prog,
+                    normal_prog=normal_prog)
     metal = textured_leaf(metal, **textures)
-    glass = textured_leaf(glass, base=base_tex, **textures)
-    plastic = textured_leaf(plastic, base=base_tex, **textures)
+    glass = textured_leaf(glass, base=base_tex, base_prog=base_prog, **textures)
+    plastic = textured_leaf(plastic, base=base_tex, base_prog=base_prog, **textures)
     tree = _mix(metallic, metal, _mix(transmission, glass, plastic))
     if alpha < 1.0:
         ctx.note(f"{owner}: alpha {alpha:g} rendered as a stochastic mix with a transparent surface")
         tree = _mix(alpha, tree, _transparent(ctx, f"{owner}: transparent"))
-    emission = [(col("Emission Color", BLACK), val("Emission Strength", 0.0))]
+    emission = [emission_term(ctx, owner, node, "Emission Color", "Emission Strength")]
     return tree, emission
 
 
@@ -562,16 +640,20 @@ def _shader(ctx, owner, node, depth=0):
         return _principled(ctx, owner, node)
     if kind == "BSDF_DIFFUSE":
         base_tex, colour = texture_input(ctx, owner, node, "Color", "colour")
+        base_prog = None
+        if colour is None:
+            base_prog, colour = program_input(ctx, owner, node, "Color", "colour")
         if colour is None:
             colour = input_value(ctx, owner, node, ("Color",), "colour")
         if (input_value(ctx, owner, node, ("Roughness",), "value") or 0.0) > 0.0:
             ctx.note(f"{owner}: '{node.name}' roughness ignored (Lambert)")
-        normal_tex, normal_strength = normal_input(ctx, owner, node)
-        if normal_tex < 0:
+        normal_tex, normal_strength, normal_prog = normal_slot(ctx, owner, node)
+        if normal_tex < 0 and normal_prog is None:
             ignored_links(ctx, owner, node, ("Normal",))
         leaf = _leaf(name=f"{owner}: {node.name}", model=constants.MAT_LAMBERT, params=lambert_params(),
                      reflectance=_refl(ctx, owner, colour))
-        return textured_leaf(leaf, base=base_tex, normal=normal_tex, strength=normal_strength), []
+        return textured_leaf(leaf, base=base_tex, normal=normal_tex, strength=normal_strength, base_prog=base_prog,
+                             normal_prog=normal_prog), []
     if kind == "BSDF_GLOSSY":
         return _glossy(ctx, owner, node), []
     if kind == "BSDF_METALLIC":
@@ -586,9 +668,7 @@ def _shader(ctx, owner, node, depth=0):
         colour = input_value(ctx, owner, node, ("Color",), "colour")
         return _transparent(ctx, f"{owner}: {node.name}", colour), []
     if kind == "EMISSION":
-        colour = input_value(ctx, owner, node, ("Color",), "colour")
-        strength = input_value(ctx, owner, node, ("Strength",), "value")
-        return None, [(colour, strength)]
+        return None, [emission_term(ctx, owner, node, "Color", "Strength")]
     if kind == "HOLDOUT":  # only a whole surface can be a holdout; inside a mix or add it is black
         ctx.note(f"{owner}: '{node.name}' inside a shader mix is black (a partial holdout is not supported)")
         return None, []
@@ -837,11 +917,9 @@ def emission_terms(ctx, owner, node, depth=0):
         a, b = shader_inputs(node)
         return emission_terms(ctx, owner, a, depth + 1) + emission_terms(ctx, owner, b, depth + 1)
     if node.type == "EMISSION":
-        return [(input_value(ctx, owner, node, ("Color",), "colour"),
-                 input_value(ctx, owner, node, ("Strength",), "value"))]
+        return [emission_term(ctx, owner, node, "Color", "Strength")]
     if node.type == "BSDF_PRINCIPLED":
-        return [(input_value(ctx, owner, node, ("Emission Color",), "colour"),
-                 input_value(ctx, owner, node, ("Emission Strength",), "value"))]
+        return [emission_term(ctx, owner, node, "Emission Color", "Emission Strength")]
     return []
 
 
@@ -851,8 +929,34 @@ def _finish(ctx, name, bsdf, emissions):
         bsdf = None
     root = _emit_tree(ctx, name, bsdf)
     root.name = name
+    emissions, root.emission_program = _emission_program(ctx, name, emissions)
     root.emission, root.emission_luminance = _emission_fields(ctx, name, emissions)
     return root
+
+
+def _emission_program(ctx, name, emissions):
+    """(the constant emitter terms, index of the program of the one driven by a node graph or -1).
+    A second graph-driven emitter, or one whose graph cannot be compiled, uses its inputs' own
+    values (listed in the warning)."""
+    consts = []
+    prog = -1
+    for term, weight in emissions:
+        if not isinstance(term, ProgramEmission):
+            consts.append((term, weight))
+            continue
+        node = term.node
+        colour_name, strength_name = term.names
+        if prog < 0 and weight > 0.0:
+            k = compile_input(ctx, name, node, colour_name, "colour", scale=strength_name, weight=weight)
+            if k is not None:
+                prog = k
+                continue
+        elif prog >= 0:
+            ctx.skip("shader nodes (the input's own value instead)",
+                     f"{name}/{node.name}: a second emitter driven by a node graph")
+        consts.append((rgb_of(node.inputs[colour_name].default_value),
+                       float(node.inputs[strength_name].default_value) * weight))
+    return consts, prog
 
 
 # ----------------------------------------------------------------------------- the panel's override

@@ -3,22 +3,12 @@ import numpy as np
 
 from .convert import points_to_world_metres
 from .material import export_material
+from .shading import corner_attributes, program_attributes, render_uv_layer
 
 # Object types that Blender can turn into a mesh (modifiers and geometry nodes applied).
 GEOMETRY_TYPES = frozenset({"MESH", "CURVE", "SURFACE", "FONT", "META"})
 # Object types that never render anything: skipped without a warning.
 HELPER_TYPES = frozenset({"EMPTY", "CAMERA", "ARMATURE", "LATTICE", "LIGHT_PROBE", "SPEAKER"})
-
-
-def render_uv_layer(me):
-    """The UV map Cycles renders with (the active render one, else the active one), or None."""
-    layers = getattr(me, "uv_layers", None)
-    if layers is None or len(layers) == 0:
-        return None
-    for layer in layers:
-        if getattr(layer, "active_render", False):
-            return layer
-    return layers.active or layers[0]
 
 
 def corner_uvs(me):
@@ -142,9 +132,14 @@ def export_mesh(ctx, obj, matrix, name, cache=None, key=None):
     elif uvs is None:
         ctx.note(f"{name}: no UV map, its image textures read at UV (0, 0)")
         uvs = np.zeros((tri.shape[0] * 3, 2), np.float32)
+    attributes = None
+    names = program_attributes(ctx, set(int(k) for k in np.unique(tri_mat)))
+    if names:
+        attributes = corner_attributes(ctx, obj, name, names)
     return Mesh(name=name, positions=points_to_world_metres(matrix, co, ctx.scale_length),
                 indices=np.ascontiguousarray(tri, dtype=np.int32),
-                material=np.ascontiguousarray(tri_mat, dtype=np.int32), normals=world_normals, corner_uvs=uvs)
+                material=np.ascontiguousarray(tri_mat, dtype=np.int32), normals=world_normals, corner_uvs=uvs,
+                attributes=attributes)
 
 
 def _uses_textures(ctx, indices):

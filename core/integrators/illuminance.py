@@ -287,7 +287,8 @@ def _trace_on(geo, mat, emt, med, txr, st, smp, cfg, scr, ray, state, rr, vis, r
         sn = _shading_normal(geo, prim, bu, bv, (nx, ny, nz), (dx, dy, dz), cos_i)
         m = geo.tri_mat[prim]
         hit = (px, py, pz, nx, ny, nz, area, cos_i)
-        _emission(geo, mat, emt, st, cfg, scr, (ox, oy, oz), hit, t, prim, m, prev_delta, prev_pdf, vis, rc)
+        _emission(geo, mat, emt, st, cfg, scr, (ox, oy, oz), hit, t, prim, m, (prev_delta, prev_pdf), vis, rc, txr,
+                  (sn, (bu, bv)))
         if depth > st.max_depth:
             break
         m, mix_w, dim = _pick_component(mat, st, smp, m, dim)
@@ -295,7 +296,7 @@ def _trace_on(geo, mat, emt, med, txr, st, smp, cfg, scr, ray, state, rr, vis, r
         if model == C.MAT_MIX or model == C.MAT_ADD:
             break
         _tb, rough, _r, _g, _b, snx, sny, snz = _surface_material(mat, txr, cfg, scr, m, prim, bu, bv, sn,
-                                                                  (dx, dy, dz), cos_i)
+                                                                  (dx, dy, dz), hit)
         pm = mat.params[m]
         if rough:
             pm = scr.pm_tex

@@ -29,6 +29,7 @@ from ..bsdfs.params import (
 from ..bsdfs.phong import lambert_sample_dir
 from ..media import kernel as media
 from ..textures import kernel as tex
+from ..shading.interp import run as run_program
 from ..geometry.bvh import STACK_SIZE, trace_closest, trace_occluded, triangle_normal, uidx
 from ..geometry.visibility import (
     HIDE_DIFFUSE, HIDE_GLOSSY, HIDE_TRANSMISSION, HIDE_VOLUME, NEE_ONLY, NO_SHADOW, RAY_CAMERA, RAY_DIFFUSE,
@@ -951,13 +952,16 @@ def _first_hit(fr, geo, st, x, y, prim, m, sn, d, t):
 
 
 @fragment
-def _emission(geo, mat, emt, st, cfg, scr, o, hit, t, prim, m, prev_delta, prev_pdf, vis, rc):
+def _emission(geo, mat, emt, st, cfg, scr, o, hit, t, prim, m, prev, vis, rc, txr, surf):
     """Material m's emitted radiance at the hit (hit = (px, py, pz, nx, ny, nz, area, cos_i),
     t along the ray from o) added to L: from both sides (Blender's Emission shader) or the
     front side only. Unless the previous vertex was a delta event or NEE is off, weighted by
     the power heuristic against the NEE's pdf of this direction, under the NEE's rule for
     (origin, triangle): 1/Ω when it samples the solid angle, else by area. vis, rc: the
-    visibility record (None: none) and the ray's class and receiving triangle (``_vis_hit``)."""
+    visibility record (None: none) and the ray's class and receiving triangle (``_vis_hit``).
+    prev: (the previous vertex was a delta event, its pdf); txr, surf: the textures record and
+    (shading normal, barycentrics) of the hit, for a material's emission program."""
+    prev_delta, prev_pdf = prev
     do_nee = cfg[0]
     ox, oy, oz = o
     px, py, pz, nx, ny, nz, area, cos_i = hit
@@ -988,6 +992,9 @@ def _emission(geo, mat, emt, st, cfg, scr, o, hit, t, prim, m, prev_delta, prev_
             w = power_heuristic(prev_pdf, pl)
         for i in range(NW):
             rad[i] += beta[i] * w * mat.emis_scale[m] * at(mat.spec, mat_emis[m], lc[i], lf[i])
+    if txr is not None:  # txr None: a scene without textures or programs (the branch is not compiled)
+        sn, bary = surf
+        _program_emission(txr.shading, txr, mat, scr, m, prim, bary, hit, o, sn)
 
 
 @inline
@@ -1013,7 +1020,7 @@ def _pick_component(mat, st, smp, m, dim):
 
 
 @fragment
-def _surface_material(mat, txr, cfg, scr, m, prim, bu, bv, sn, d, cos_i):
+def _surface_material(mat, txr, cfg, scr, m, prim, bu, bv, sn, d, hit):
     """Material m at the hit: ρa, ρb, η and κ at the path's wavelengths into the scratch
     rows, then its image textures (base colour into ρa, roughness into the scratch parameter
     row, the normal map into the shading normal sn). Returns (base colour textured,
@@ -1033,8 +1040,97 @@ def _surface_material(mat, txr, cfg, scr, m, prim, bu, bv, sn, d, cos_i):
         mat_tex = txr.mat_tex
         if mat_tex[m, 0] >= 0 or mat_tex[m, 1] >= 0 or mat_tex[m, 2] >= 0:
             tex_base, rough, cr, cg, cb, snx, sny, snz = _textures(
-                m, np.int64(prim), bu, bv, sn, d, cos_i, mat.params[m], scr, mat.spec, txr)
+                m, np.int64(prim), bu, bv, sn, d, hit[7], mat.params[m], scr, mat.spec, txr)
+        tex_base, rough, cr, cg, cb, snx, sny, snz = _program_surface(
+            txr.shading, txr, mat, scr, m, prim, (bu, bv), hit, d, (snx, sny, snz), (tex_base, rough, cr, cg, cb))
     return tex_base, rough, cr, cg, cb, snx, sny, snz
+
+
+@function
+def _program_surface(shd, txr, mat, scr, m, prim, bary, hit, d, sn, state):
+    """Material m's shader programs for its shading normal (first: the others see it), base
+    colour (uplifted into ρa with the reflectance basis, its rgb clamped to [0, 1]) and
+    roughness (GGX α = r² on both axes in the scratch parameter row). Returns ``state`` (base
+    colour textured, roughness textured, r, g, b) updated and the shading normal; shd None: a
+    scene without programs (a function, so that numba prunes on the argument and compiles
+    nothing of this for it)."""
+    tex_base, rough, cr, cg, cb = state
+    nx, ny, nz = sn
+    if shd is not None:
+        mp = shd.mat_prog
+        if mp[m, 0] >= 0 or mp[m, 1] >= 0 or mp[m, 3] >= 0:
+            regs = scr.stack.view(np.float32)
+            if mp[m, 3] >= 0:
+                ctx = (hit[0], hit[1], hit[2], nx, ny, nz, hit[3], hit[4], hit[5], -d[0], -d[1], -d[2])
+                qx, qy, qz = run_program(shd.prog_ops, shd.prog_consts, txr.tex_data, txr.tex_info, shd.tri_attr,
+                                         np.int64(mp[m, 3]), np.int64(prim), bary[0], bary[1], ctx, regs)
+                ql = math.sqrt(qx * qx + qy * qy + qz * qz)
+                if ql > 0.0:
+                    nx = qx / ql
+                    ny = qy / ql
+                    nz = qz / ql
+            ctx = (hit[0], hit[1], hit[2], nx, ny, nz, hit[3], hit[4], hit[5], -d[0], -d[1], -d[2])
+            if mp[m, 0] >= 0:
+                r, g, b = run_program(shd.prog_ops, shd.prog_consts, txr.tex_data, txr.tex_info, shd.tri_attr,
+                                      np.int64(mp[m, 0]), np.int64(prim), bary[0], bary[1], ctx, regs)
+                cr = clamp01(r)
+                cg = clamp01(g)
+                cb = clamp01(b)
+                tex_base = True
+                lc = scr.lc
+                lf = scr.work[10]
+                ra = scr.work[4]
+                spec = mat.spec
+                row = shd.refl_row
+                for i in range(NW):
+                    ra[i] = (cr * at(spec, row, lc[i], lf[i]) + cg * at(spec, row + 1, lc[i], lf[i])
+                             + cb * at(spec, row + 2, lc[i], lf[i]))
+            if mp[m, 1] >= 0:
+                r, _g, _b = run_program(shd.prog_ops, shd.prog_consts, txr.tex_data, txr.tex_info, shd.tri_attr,
+                                        np.int64(mp[m, 1]), np.int64(prim), bary[0], bary[1], ctx, regs)
+                pm = mat.params[m]
+                pm_tex = scr.pm_tex
+                if not rough:
+                    for k in range(pm_tex.shape[0]):
+                        pm_tex[k] = pm[k]
+                rr = clamp01(r)
+                pm_tex[1] = max(rr * rr, ALPHA_MIN)
+                pm_tex[2] = pm_tex[1]
+                rough = True
+    return tex_base, rough, cr, cg, cb, nx, ny, nz
+
+
+@function
+def _program_emission(shd, txr, mat, scr, m, prim, bary, hit, o, sn):
+    """Material m's emission program at the hit added to L (rgb radiance, Blender's colour ×
+    strength, through the emission basis rows: white 1 is 683 cd/m²), weight 1: an emitter
+    driven by a program is not sampled by NEE. shd None: a scene without programs."""
+    if shd is not None:
+        e0 = shd.mat_prog[m, 2]
+        if e0 >= 0 and (hit[7] > 0.0 or (hit[7] < 0.0 and mat.emis_two[m] != 0)):
+            ix = o[0] - hit[0]
+            iy = o[1] - hit[1]
+            iz = o[2] - hit[2]
+            il = math.sqrt(ix * ix + iy * iy + iz * iz)
+            if il > 0.0:
+                ix /= il
+                iy /= il
+                iz /= il
+            ctx = (hit[0], hit[1], hit[2], sn[0], sn[1], sn[2], hit[3], hit[4], hit[5], ix, iy, iz)
+            r, g, b = run_program(shd.prog_ops, shd.prog_consts, txr.tex_data, txr.tex_info, shd.tri_attr,
+                                  np.int64(e0), np.int64(prim), bary[0], bary[1], ctx, scr.stack.view(np.float32))
+            r = max(r, 0.0)
+            g = max(g, 0.0)
+            b = max(b, 0.0)
+            beta = scr.work[2]
+            rad = scr.work[3]
+            lc = scr.lc
+            lf = scr.work[10]
+            spec = mat.spec
+            row = shd.emit_row
+            for i in range(NW):
+                rad[i] += beta[i] * (r * at(spec, row, lc[i], lf[i]) + g * at(spec, row + 1, lc[i], lf[i])
+                                     + b * at(spec, row + 2, lc[i], lf[i]))
 
 
 @inline
@@ -1355,8 +1451,8 @@ def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr, act,
                             transp = 1.0
                             break
                     hit = (px, py, pz, nx, ny, nz, area, cos_i)
-                    _emission(geo, mat, emt, st, cfg, scr, (ox, oy, oz), hit, t, prim, m, prev_delta, prev_pdf, vis,
-                              rc)
+                    _emission(geo, mat, emt, st, cfg, scr, (ox, oy, oz), hit, t, prim, m, (prev_delta, prev_pdf),
+                              vis, rc, txr, (sn, (bu, bv)))
                     if depth > st.max_depth:
                         break
                     m, mix_w, dim = _pick_component(mat, st, smp, m, dim)
@@ -1364,7 +1460,7 @@ def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr, act,
                     if model == C.MAT_MIX or model == C.MAT_ADD:
                         break
                     tex_base, rough, cr, cg, cb, snx, sny, snz = _surface_material(mat, txr, cfg, scr, m, prim, bu, bv,
-                                                                                   sn, (dx, dy, dz), cos_i)
+                                                                                   sn, (dx, dy, dz), hit)
                     pm = mat.params[m]
                     if rough:
                         pm = scr.pm_tex

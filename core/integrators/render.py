@@ -79,7 +79,7 @@ def prepare(scene: Scene, measure=False, bvh=None) -> Prepared:
     materials = bsdfs_record.pack(scene, spec, cmf)
     emitters, tri_emitter, spec = lights_record.pack(scene, spec, cmf, bvh, tri_mat, materials.emis,
                                                      materials.emis_two, geometry_record.scene_radius(v0, v1, v2))
-    textures, spec = textures_record.pack(scene, bvh.prims, spec)
+    textures, spec = textures_record.pack(scene, bvh.prims, spec, cmf)
     sensor_mat = -1
     if measure:
         materials, spec, sensor_mat = bsdfs_record.add_sensor(materials, spec)

@@ -38,6 +38,7 @@ from .checks import fail as _fail
 from ..lux.grids import CalculationSurface
 from ..lux.points import LuxError
 from .textures import Texture
+from ..shading.program import Program, check_scene as _check_programs
 from .textures import check as _check_textures
 from ..spectra import moments
 from ..film import COLOUR_SPACES, OBSERVERS
@@ -54,6 +55,8 @@ class Mesh:
     normals: np.ndarray | None = None  # float32 (N, 3) shading normals, or None (flat)
     uvs: np.ndarray | None = None  # float32 (N, 2), or None
     corner_uvs: np.ndarray | None = None  # float32 (T*3, 2): UVs per triangle corner (wins over uvs), or None
+    # corner attributes shader programs read (core/shading/program.py): name -> float32 (T*3, 3)
+    attributes: dict | None = None
     sensor: bool = False  # an illuminance sensor (core.sensors.render_illuminance measures on it)
     holdout: bool = False  # camera rays that reach it first see a hole (alpha 0); other rays its material
     # ray visibility (Cycles' Object > Visibility > Ray Visibility): False, rays of that kind pass through it
@@ -151,6 +154,11 @@ class Material:
     roughness_texture: int = -1  # one channel: Blender roughness r, GGX α = r² (GGX and plastic models)
     normal_texture: int = -1  # tangent-space normal map (three channels, OpenGL +Y)
     normal_strength: float = 1.0  # the Normal Map node's strength
+    # shader programs (core/shading/program.py): indices into Scene.programs, -1 = none
+    base_colour_program: int = -1  # rgb → ρa (uplifted per evaluation); wins over base_colour_texture
+    roughness_program: int = -1  # x: Blender roughness r, GGX α = r² (GGX and plastic models)
+    emission_program: int = -1  # rgb radiance (Blender colour × strength) added to the emission
+    normal_program: int = -1  # the shading normal (world space, Bump / Normal Map nodes)
     holdout: bool = False  # Cycles' Holdout shader: a hole (alpha 0) for camera rays, black and absorbing for others
 
 
@@ -346,6 +354,7 @@ class Scene:
     ior_tables: IORTable = field(default_factory=IORTable.empty)
     media: list[Medium] = field(default_factory=list)
     textures: list[Texture] = field(default_factory=list)  # image textures, core/scene/textures.py
+    programs: list[Program] = field(default_factory=list)  # shader programs, core/shading/program.py
     profiles: list[Profile] = field(default_factory=list)
     camera: Camera = field(default_factory=lambda: Camera(np.eye(4)))
     world: World = field(default_factory=World)
@@ -375,7 +384,7 @@ def validate(scene: Scene) -> Scene:
 
     if not isinstance(scene.metadata, dict):
         _fail("metadata", f"expected a dict, got {type(scene.metadata).__name__}")
-    for key in ("meshes", "materials", "lights", "media", "textures", "profiles"):
+    for key in ("meshes", "materials", "lights", "media", "textures", "profiles", "programs"):
         if not isinstance(getattr(scene, key), list):
             _fail(key, f"expected a list, got {type(getattr(scene, key)).__name__}")
         for i, rec in enumerate(getattr(scene, key)):
@@ -386,6 +395,7 @@ def validate(scene: Scene) -> Scene:
     _validate_materials(scene, spec_ref)
     _validate_meshes(scene)
     _check_textures(scene, _fail)
+    _check_programs(scene, _fail)
     _validate_profiles(scene)
     _validate_lights(scene, spec_ref)
     _validate_camera(scene.camera)
@@ -803,6 +813,16 @@ def _texture_records(textures, arrays):
     return recs
 
 
+def _program_records(programs, arrays):
+    recs = []
+    for i, p in enumerate(programs):
+        arrays[f"programs.{i}.ops"] = p.ops
+        arrays[f"programs.{i}.consts"] = p.consts
+        recs.append({"name": p.name, "ops": f"programs.{i}.ops", "consts": f"programs.{i}.consts",
+                     "attributes": list(p.attributes), "n_registers": int(p.n_registers)})
+    return recs
+
+
 def to_dict_and_arrays(scene: Scene):
     """Split a scene into a JSON-able dict and a dict of named arrays."""
     arrays = {"spectra.coeffs": scene.spectra.coeffs, "spectra.kind": scene.spectra.kind,
@@ -821,6 +841,11 @@ def to_dict_and_arrays(scene: Scene):
         for key in LINK_FIELDS:
             if getattr(m, key) is not None:
                 rec[key] = [int(i) for i in getattr(m, key)]
+        if m.attributes:
+            rec["attributes"] = {}
+            for j, (an, av) in enumerate(sorted(m.attributes.items())):
+                arrays[f"meshes.{i}.attributes.{j}"] = av
+                rec["attributes"][an] = f"meshes.{i}.attributes.{j}"
         meshes.append(rec)
     profiles = []
     for i, pr in enumerate(scene.profiles):
@@ -839,6 +864,7 @@ def to_dict_and_arrays(scene: Scene):
         "lights": [dataclasses.asdict(li) for li in scene.lights],
         "media": [dataclasses.asdict(md) for md in scene.media],
         "textures": _texture_records(scene.textures, arrays),
+        "programs": _program_records(scene.programs, arrays),
         "profiles": profiles,
         "meshes": meshes,
         "camera": cam,
@@ -1125,7 +1151,8 @@ def _from_doc(doc, path, reader):
             raise SceneError(f"{field_name}: {e}") from None
 
     known = {"format", "version", "metadata", "spectra", "materials", "ior_tables", "lights", "media", "textures",
-             "profiles", "meshes", "camera", "world", "settings", "calculation_surfaces", "arrays", "arrays_sha256"}
+             "programs", "profiles", "meshes", "camera", "world", "settings", "calculation_surfaces", "arrays",
+             "arrays_sha256"}
     unknown = set(doc) - known
     if unknown:
         raise SceneError(f"scene file: unknown keys {sorted(unknown)}")
@@ -1137,7 +1164,8 @@ def _from_doc(doc, path, reader):
                             arr(need(sp, "kind", "spectra"), "spectra.kind"), names(need(sp, "names", "spectra"),
                                                                                   "spectra.names"))
     meshes = []
-    mesh_keys = {"name", "positions", "indices", "material", "normals", "uvs", "corner_uvs", *MESH_FLAGS, *LINK_FIELDS}
+    mesh_keys = {"name", "positions", "indices", "material", "normals", "uvs", "corner_uvs", "attributes", *MESH_FLAGS,
+                 *LINK_FIELDS}
     for i, m in enumerate(lst(doc["meshes"], "meshes")):
         nm = f"meshes[{i}]"
         obj(m, nm)
@@ -1157,6 +1185,8 @@ def _from_doc(doc, path, reader):
             corner_uvs=arr(m.get("corner_uvs"), f"{nm}.corner_uvs"),
             **{key: _typed(f"{nm}.{key}", "bool", m.get(key, key in VISIBILITY_FLAGS)) for key in MESH_FLAGS},
             **{key: _typed(f"{nm}.{key}", "indices", m.get(key)) for key in LINK_FIELDS},
+            attributes={str(an): arr(ak, f"{nm}.attributes.{an}")
+                        for an, ak in obj(m.get("attributes") or {}, f"{nm}.attributes").items()} or None,
         ))
     materials = [record(Material, d, f"materials[{i}]") for i, d in enumerate(lst(doc["materials"], "materials"))]
     itd = doc.get("ior_tables")
@@ -1168,6 +1198,16 @@ def _from_doc(doc, path, reader):
                               names(need(itd, "names", "ior_tables"), "ior_tables.names"))
     lights = [record(Light, d, f"lights[{i}]") for i, d in enumerate(lst(doc["lights"], "lights"))]
     media = [record(Medium, d, f"media[{i}]") for i, d in enumerate(lst(doc.get("media"), "media", True))]
+    programs = []
+    for i, d in enumerate(lst(doc.get("programs"), "programs", True)):
+        d = dict(obj(d, f"programs[{i}]"))
+        try:
+            programs.append(Program(name=str(d["name"]), ops=arr(d["ops"], f"programs[{i}].ops"),
+                                    consts=arr(d["consts"], f"programs[{i}].consts"),
+                                    attributes=[str(a) for a in d.get("attributes", [])],
+                                    n_registers=int(d.get("n_registers", 0))))
+        except (KeyError, TypeError, ValueError) as e:
+            raise SceneError(f"programs[{i}]: {e}") from None
     textures = []
     for i, d in enumerate(lst(doc.get("textures"), "textures", True)):
         d = dict(obj(d, f"textures[{i}]"))
@@ -1204,5 +1244,6 @@ def _from_doc(doc, path, reader):
     if type(metadata) is not dict:
         raise SceneError(f"metadata: expected an object, got {_describe(metadata)}")
     return Scene(meshes=meshes, spectra=spectra, materials=materials, lights=lights, ior_tables=ior_tables,
-                 media=media, profiles=profiles, textures=textures, camera=camera, world=world, settings=settings,
+                 media=media, profiles=profiles, textures=textures, programs=programs, camera=camera, world=world,
+                 settings=settings,
                  calculation_surfaces=surfaces, metadata=dict(metadata), version=doc["version"])

@@ -81,8 +81,10 @@ def triangle_frames(scene, prims):
     """float32 (T, 10) per triangle in BVH leaf order (``prims``, the BVH's permutation):
     the corners' UVs (u0 v0 u1 v1 u2 v2), the tangent ∂p/∂u (3, not normalised) and the
     handedness s = ±1 of the UV map (the bitangent is s·n × t); (0, 10) when no material
-    uses a texture. Triangles without UVs get zeros and the tangent of an arbitrary frame."""
-    if not any(getattr(m, k) >= 0 for m in scene.materials for k in TEXTURE_FIELDS):
+    uses a texture or a program. Triangles without UVs get zeros and the tangent of an arbitrary frame."""
+    from ..shading.program import uses_programs
+
+    if not any(getattr(m, k) >= 0 for m in scene.materials for k in TEXTURE_FIELDS) and not uses_programs(scene):
         return np.zeros((0, 10), np.float32)
     parts = []
     for mesh in scene.meshes:

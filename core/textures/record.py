@@ -20,6 +20,8 @@ class TextureRecord(NamedTuple):
     mat_nstr: float64 (K,) each material's normal-map strength.
     tex_row: int, the first of the three reflectance basis rows of the spectrum table a base
         colour texel's rgb weighs (-1: no material has a base colour texture).
+    shading: the shader programs (core/shading/record.py ShadingRecord), None when no
+        material has one (then none of the program code is compiled).
     """
 
     tri_tex: np.ndarray
@@ -28,9 +30,10 @@ class TextureRecord(NamedTuple):
     mat_tex: np.ndarray
     mat_nstr: np.ndarray
     tex_row: int
+    shading: object = None
 
 
-def pack(scene, prims, spec):
+def pack(scene, prims, spec, cmf=None):
     """(record, spec): ``scene``'s textures for a BVH with leaf permutation ``prims``, and the
     spectrum table ``spec`` with the reflectance basis rows appended when a material has a
     base colour texture."""
@@ -43,10 +46,15 @@ def pack(scene, prims, spec):
     if np.any(mat_tex[:, 0] >= 0):
         tex_row = spec.shape[0]
         spec = np.concatenate([spec, reflectance_basis().astype(np.float32)])
-    return TextureRecord(tri_tex, tex_data, tex_info, mat_tex, mat_nstr, int(tex_row)), spec
+    from ..shading import record as shading_record
+
+    shading, spec = shading_record.pack(scene, prims, spec, cmf)
+    return TextureRecord(tri_tex, tex_data, tex_info, mat_tex, mat_nstr, int(tex_row), shading), spec
 
 
 def add_sensor(rec) -> TextureRecord:
     """``rec`` with the sensors' material (core/bsdfs/record.py add_sensor): untextured."""
+    from ..shading import record as shading_record
+
     return rec._replace(mat_tex=np.concatenate([rec.mat_tex, np.full((1, 3), -1, np.int32)]),
-                        mat_nstr=np.append(rec.mat_nstr, 1.0))
+                        mat_nstr=np.append(rec.mat_nstr, 1.0), shading=shading_record.add_sensor(rec.shading))

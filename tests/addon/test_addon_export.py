@@ -201,16 +201,21 @@ def test_materials(ext, bpy):
     same_spectrum(coeffs(scene, m.reflectance), core.reflectance_from_rgb((0.3, 0.2, 0.1)))
 
 
-def test_linked_inputs_use_a_substitute_and_warn(ext, bpy):
+def test_linked_inputs_compile_to_programs_or_use_a_substitute_and_warn(ext, bpy):
     b = ext.build
     minimal(b)
     mat = b.principled("Textured", (0.25, 0.5, 0.75))
     tree = mat.node_tree
     bsdf = next(n for n in tree.nodes if n.type == "BSDF_PRINCIPLED")
-    tex = tree.nodes.new("ShaderNodeTexChecker")
+    tex = tree.nodes.new("ShaderNodeTexGabor")  # not supported by shader programs
     tex.name = "Checker"
-    tree.links.new(tex.outputs["Color"], bsdf.inputs["Base Color"])
+    tree.links.new(tex.outputs[0], bsdf.inputs["Base Color"])
     b.plane("Floor", material=mat)
+    prog = b.principled("Programmed")
+    bsdf3 = next(n for n in prog.node_tree.nodes if n.type == "BSDF_PRINCIPLED")
+    checker = prog.node_tree.nodes.new("ShaderNodeTexChecker")
+    prog.node_tree.links.new(checker.outputs["Color"], bsdf3.inputs["Base Color"])
+    b.plane("Tiles", material=prog)
     const = b.principled("Constant")
     bsdf2 = next(n for n in const.node_tree.nodes if n.type == "BSDF_PRINCIPLED")
     rgb_node = const.node_tree.nodes.new("ShaderNodeRGB")
@@ -224,6 +229,9 @@ def test_linked_inputs_use_a_substitute_and_warn(ext, bpy):
     same_spectrum(coeffs(res.scene, m.reflectance), ext.core.reflectance_from_rgb((0.6, 0.3, 0.1)))
     assert res.warning is not None and "Checker" in res.warning and "Textured" in res.warning
     assert "RGB" not in res.warning
+    # a supported node graph becomes the base colour program of the plastic leaf
+    assert any(mm.base_colour_program >= 0 for mm in res.scene.materials if mm.name.startswith("Programmed"))
+    assert len(res.scene.programs) == 1 and "Programmed" not in res.warning
 
 
 def test_world_background(ext, bpy):

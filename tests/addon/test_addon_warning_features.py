@@ -17,9 +17,9 @@ def test_every_unsupported_feature_is_named_in_the_warning(ext, bpy):
     node = next(n for n in tree.nodes if n.type == "BSDF_PRINCIPLED")
     node.inputs["Coat Weight"].default_value = 0.5
     node.inputs["Sheen Weight"].default_value = 0.3
-    noise = tree.nodes.new("ShaderNodeTexNoise")
+    noise = tree.nodes.new("ShaderNodeTexGabor")  # a texture shader programs do not support
     noise.name = "Grain"
-    tree.links.new(noise.outputs["Color"], node.inputs["Base Color"])
+    tree.links.new(noise.outputs[0], node.inputs["Base Color"])
     floor = b.plane("Floor", size=4.0, material=mat)
     floor.is_shadow_catcher = True
     ghost = b.cube("Ghost", location=(0.0, 0.0, 1.0))

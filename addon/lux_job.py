@@ -110,7 +110,7 @@ class LuxJob(BackgroundJob):
             import numpy as np
 
             from ..core import radiosity, radiosity_illuminance, unlit_points
-            from ..core.integrators.radiosity import solve
+            from ..core import radiosity_solve as solve
 
             opts = dict(solve.LUX_DEFAULTS, threads=self.threads,
                         max_edge=self.max_edge or solve.default_max_edge(self.scene))

@@ -56,10 +56,16 @@ from .integrators.radiosity import (
     form_factor_polygon_polygon, radiosity, render_radiosity)
 from .integrators.radiosity import illuminance_at as radiosity_illuminance
 from .integrators.radiosity import lux_integrator as radiosity_lux_integrator
+from .integrators.radiosity import solve as radiosity_solve
+from .geometry import curves as hair_curves  # curve tessellation (particle hair, Curves objects)
+from .shading.compiler import Unsupported as UnsupportedNode
+from .shading.compiler import compile_output as compile_shader_output
+from .shading import PROGRAM_FIELDS
 
 __all__ = [
     "Farm", "FarmError",
-    "constants", "lux", "atomic_path", "write_text_atomic", "encode_png", "luminaire_schedule",
+    "constants", "lux", "radiosity_solve", "hair_curves", "UnsupportedNode", "compile_shader_output", "PROGRAM_FIELDS",
+    "atomic_path", "write_text_atomic", "encode_png", "luminaire_schedule",
     "Scene", "Mesh", "Material", "Light", "Camera", "World", "RenderSettings", "SpectrumTable", "Medium",
     "SceneError", "validate", "load_scene", "save_scene",
     "reflectance_from_rgb", "emission_from_rgb", "reflectance_from_samples", "emission_from_samples",

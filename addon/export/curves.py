@@ -31,7 +31,7 @@ MAX_TRIANGLES = 100_000_000  # per hair system or Curves object: about 12 GB of 
 
 def hair_shape(scene):
     """The core curve shape of Cycles' curve setting (Render properties > Curves > Shape)."""
-    from ...core.geometry import curves as G
+    from ...core import hair_curves as G
 
     settings = getattr(scene, "cycles_curves", None)
     return G.RIBBON if getattr(settings, "shape", "THICK") == "RIBBONS" else G.ROUND
@@ -93,7 +93,8 @@ def particle_strands(obj, psys, render):
 
 def particle_radii(part, times, counts):
     """Cycles' key radii (object units) of particle settings ``part`` at fractions of length ``times``."""
-    from ...core.geometry.curves import shape_radius
+    from ...core import hair_curves
+    shape_radius = hair_curves.shape_radius
 
     half = float(part.radius_scale) * 0.5
     r = shape_radius(float(part.shape), half * float(part.root_radius), half * float(part.tip_radius), times)
@@ -106,7 +107,7 @@ def particle_radii(part, times, counts):
 def _curves_mesh(ctx, name, local, radii, counts, matrix, material, camera, shape, sides, spline=True):
     from ...core import Mesh
     from ...core import constants as C
-    from ...core.geometry import curves as G
+    from ...core import hair_curves as G
 
     m = np.asarray(matrix, np.float64)
     world = (local @ m[:3, :3].T + m[:3, 3]) * ctx.scale_length
@@ -190,7 +191,7 @@ def curves_data(curves):
 
 def export_curves_object(ctx, obj, matrix, name, camera, scene):
     """A core mesh of evaluated Curves object ``obj`` placed by ``matrix``, or None without curves."""
-    from ...core.geometry import curves as G
+    from ...core import hair_curves as G
 
     pos, counts, radii, poly = curves_data(obj.data)
     if len(counts) == 0:
@@ -208,7 +209,7 @@ def export_curves_object(ctx, obj, matrix, name, camera, scene):
 
 
 def _shape_text(shape, sides):
-    from ...core.geometry import curves as G
+    from ...core import hair_curves as G
 
     if shape == G.RIBBON:
         return "camera-facing ribbons"

@@ -179,7 +179,8 @@ def compile_input(ctx, owner, node, name, kind, scale=None, weight=1.0, images=N
     ("colour", "value", "vector"; ``scale``: the name of a second input multiplied in), or None when
     the graph holds something unsupported (listed in the warning, the caller uses constants).
     ``images``: how an Image Texture node becomes a core texture (export/material.py image_texture)."""
-    from ...core.shading.compiler import Unsupported, compile_output
+    from ...core import UnsupportedNode as Unsupported
+    from ...core import compile_shader_output as compile_output
 
     b = GraphBuilder(ctx, owner, images)
     try:
@@ -206,7 +207,7 @@ def compile_input(ctx, owner, node, name, kind, scale=None, weight=1.0, images=N
 def program_attributes(ctx, material_indices):
     """The corner attribute names the programs of the core materials ``material_indices`` read."""
     from ...core import constants as C
-    from ...core.shading import PROGRAM_FIELDS
+    from ...core import PROGRAM_FIELDS
 
     names = set()
     seen = set()

@@ -473,7 +473,8 @@ def recolour_radiosity(scene):
     calculation surface's. Returns (vmin, vmax) or None without an overlay."""
     import numpy as np
 
-    from ...core.lux import falsecolour as fc
+    from ...core import lux
+    fc = lux.falsecolour
 
     r = scene.spectral_gi_radiosity
     key = "luminance" if r.quantity == "LUMINANCE" else "lux"
@@ -504,7 +505,8 @@ def radiosity_legend(scene):
     quantity's unit; [] without an overlay."""
     import numpy as np
 
-    from ...core.lux import falsecolour as fc
+    from ...core import lux
+    fc = lux.falsecolour
 
     r = scene.spectral_gi_radiosity
     s = scene.spectral_gi_radiosity_scale

@@ -3,7 +3,10 @@ plane's texture coordinates) drives, rendered by Cycles (bpy) and by this engine
 48×48 orthographic frame: mean ΔE00 ≤ 1 and 99th percentile ≤ 3 (core.colour.compare, white
 683 cd/m² = Blender's emission 1). The renders see the emission directly (no bounce), so
 the difference measures the node's arithmetic and the per-evaluation emission uplift (and
-what is left of the noise at 256 samples).
+what is left of the noise at 256 samples). Both engines use a 0.01 px box filter, so every
+sample sees the pixel's centre: a pattern's hard edges (a checker, brick mortar, white-noise
+cells) and its fine detail are compared value for value rather than through each engine's
+sampling noise of a filter straddling an edge.
 """
 import importlib
 import math
@@ -393,6 +396,7 @@ def emission_plane(b, bpy, case):
     b.resolution(RES, RES)
     s = b.scene.spectral_gi
     s.samples, s.max_bounces, s.seed = SAMPLES, 0, 1
+    s.pixel_filter, s.filter_width = "BOX", 0.01
     return mat
 
 

@@ -40,6 +40,7 @@ from .bsdfs.presets import (
 from .scene import IORTable
 from .scene import Medium  # participating media (compendium item 54)
 from .scene import Texture  # image textures
+from .scene.textures import reached_materials
 # tabulated spectrum files (materials' reflectance, lights' emission shape)
 from .io.spectrum_file import SpectrumFileError, load_spectrum_file, spectrum_file_coeffs
 # photometric light profiles (IES LM-63, EULUMDAT)
@@ -65,6 +66,7 @@ from .shading import PROGRAM_FIELDS
 __all__ = [
     "Farm", "FarmError",
     "constants", "lux", "radiosity_solve", "hair_curves", "UnsupportedNode", "compile_shader_output", "PROGRAM_FIELDS",
+    "reached_materials",
     "atomic_path", "write_text_atomic", "encode_png", "luminaire_schedule",
     "Scene", "Mesh", "Material", "Light", "Camera", "World", "RenderSettings", "SpectrumTable", "Medium",
     "SceneError", "validate", "load_scene", "save_scene",

@@ -144,18 +144,7 @@ def export_mesh(ctx, obj, matrix, name, cache=None, key=None):
 
 def _uses_textures(ctx, indices):
     """True if one of the core materials ``indices`` (or a component of their mixes) has a texture."""
-    from ...core import constants as C
+    from ...core import reached_materials
 
-    seen = set()
-    stack = list(indices)
-    while stack:
-        i = stack.pop()
-        if i in seen or not 0 <= i < len(ctx.materials):
-            continue
-        seen.add(i)
-        m = ctx.materials[i]
-        if m.base_colour_texture >= 0 or m.roughness_texture >= 0 or m.normal_texture >= 0:
-            return True
-        if m.model in (C.MAT_MIX, C.MAT_ADD) and m.params is not None and len(m.params) >= 3:
-            stack += [int(m.params[1]), int(m.params[2])]
-    return False
+    return any(m.base_colour_texture >= 0 or m.roughness_texture >= 0 or m.normal_texture >= 0
+               for m in (ctx.materials[i] for i in reached_materials(ctx.materials, indices)))

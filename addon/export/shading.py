@@ -206,24 +206,15 @@ def compile_input(ctx, owner, node, name, kind, scale=None, weight=1.0, images=N
 
 def program_attributes(ctx, material_indices):
     """The corner attribute names the programs of the core materials ``material_indices`` read."""
-    from ...core import constants as C
-    from ...core import PROGRAM_FIELDS
+    from ...core import PROGRAM_FIELDS, reached_materials
 
     names = set()
-    seen = set()
-    stack = list(material_indices)
-    while stack:
-        i = stack.pop()
-        if i in seen or not 0 <= i < len(ctx.materials):
-            continue
-        seen.add(i)
+    for i in reached_materials(ctx.materials, material_indices):
         m = ctx.materials[i]
         for key in PROGRAM_FIELDS:
             k = getattr(m, key, -1)
             if k >= 0:
                 names.update(ctx.programs[k].attributes)
-        if m.model in (C.MAT_MIX, C.MAT_ADD) and m.params is not None and len(m.params) >= 3:
-            stack += [int(m.params[1]), int(m.params[2])]
     return sorted(names)
 
 

@@ -32,6 +32,21 @@ class Texture:
     colour: bool = True  # colour data (base colour) or not (roughness, normal map): informative
 
 
+def reached_materials(materials, indices):
+    """The indices of ``materials`` that ``indices`` reach: themselves and, through mix and add
+    materials, their components (out-of-range indices are left out)."""
+    seen, stack = set(), list(indices)
+    while stack:
+        j = stack.pop()
+        if j in seen or not 0 <= j < len(materials):
+            continue
+        seen.add(j)
+        mj = materials[j]
+        if mj.model in (C.MAT_MIX, C.MAT_ADD) and mj.params is not None and len(mj.params) >= 3:
+            stack += [int(mj.params[1]), int(mj.params[2])]
+    return seen
+
+
 def check(scene, fail):
     """Validate ``scene.textures``, the materials' texture fields and the UVs they need.
 
@@ -83,18 +98,7 @@ def check(scene, fail):
             if textures[m.normal_texture].image.shape[2] != 3:
                 fail(f"{nm}.normal_texture", f"texture {m.normal_texture} must have three channels")
     # a mix reaches its components: a mesh using a mix of textured materials needs UVs too
-    reach = {}
-    for i, m in enumerate(scene.materials):
-        seen, stack = set(), [i]
-        while stack:
-            j = stack.pop()
-            if j in seen or not 0 <= j < len(scene.materials):
-                continue
-            seen.add(j)
-            mj = scene.materials[j]
-            if mj.model in (C.MAT_MIX, C.MAT_ADD) and mj.params is not None and len(mj.params) >= 3:
-                stack += [int(mj.params[1]), int(mj.params[2])]
-        reach[i] = seen
+    reach = {i: reached_materials(scene.materials, [i]) for i in range(len(scene.materials))}
     for i, mesh in enumerate(scene.meshes):
         nm = f"meshes[{i}] ({mesh.name!r})"
         n_t = mesh.indices.shape[0]

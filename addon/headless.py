@@ -132,10 +132,11 @@ def render_blend(blend, out, spp=None, compare_cycles=False, json_path=None, str
 
     from ..core import write_png
     from . import render_job
-    from .operators.compare import _Overrides, compare_with_cycles, write_json_atomic
+    from .export.detail import Overrides
+    from .operators.compare import compare_with_cycles, write_json_atomic
 
     out.parent.mkdir(parents=True, exist_ok=True)
-    ov = _Overrides()
+    ov = Overrides()
     try:
         r = scene.render
         ov.set(r, "engine", ENGINE)

@@ -15,10 +15,10 @@ median of the ratios of their render times in CPU seconds on one thread (base / 
 ≥ 1 is faster; on a shared machine CPU time is far steadier than wall time). Scenes: the
 built-in Cornell box, the ColorChecker and an interior (a 5 × 4 × 2.6 m room lit by the sun
 and the sky through a window, with a rough plastic floor, a table and a shelf), none of
-which uses an optional feature (the path kernel takes their records as None). With --cold it also times the first render of the Cornell
-box in fresh processes with an empty numba cache (compile_bench.py's measure), alternating
-base and this checkout, in wall and in CPU seconds (the process and its second compile
-process).
+which uses an optional feature (the path kernel takes their records as None). With --cold
+it also times the first render of the Cornell box in fresh processes with an empty numba
+cache (compile_bench.py's measure), alternating base and this checkout, in wall and in CPU
+seconds (the process and its second compile process).
 """
 import argparse
 import importlib
@@ -173,8 +173,8 @@ def main():
                             ["scene", "imported first", "median ratio", "min", "max", "pairs"], rows)]
     _cold_table(a, base_dir, base_name, this, tables)
     results.write("features_ab", tables=tables,
-                  conditions={"size": a.size, "spp": a.spp, "pairs": a.pairs, "threads": 1, "base": a.base_label or base_name,
-                              "time": "CPU seconds (process_time) per render"})
+                  conditions={"size": a.size, "spp": a.spp, "pairs": a.pairs, "threads": 1,
+                              "base": a.base_label or base_name, "time": "CPU seconds (process_time) per render"})
 
 
 def _import_both(base_name, this_first):

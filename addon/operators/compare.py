@@ -31,6 +31,7 @@ import time
 import bpy
 
 from .. import render_job
+from ..export.detail import Overrides, render_detail
 from ..jobs import ModalJobOperator, redraw
 
 SIDE_BY_SIDE_IMAGE = "Spectral GI vs Cycles"
@@ -39,32 +40,6 @@ CYCLES_FILTERS = {"BOX": "BOX", "BLACKMAN_HARRIS": "BLACKMAN_HARRIS", "GAUSSIAN"
 JOB_START_GRACE = 2.0  # seconds a Cycles render job may take to show up as running
 
 RUNNING, FINISHED, CANCELLED, FAILED = "RUNNING", "FINISHED", "CANCELLED", "FAILED"
-
-
-class _Overrides:
-    """Set attributes and put every one back afterwards (also on errors)."""
-
-    def __init__(self):
-        self._saved = []
-
-    def set(self, owner, attr, value):
-        if owner is None or not hasattr(owner, attr):
-            return False
-        self._saved.append((owner, attr, getattr(owner, attr)))
-        try:
-            setattr(owner, attr, value)
-        except (TypeError, ValueError, AttributeError):
-            self._saved.pop()
-            return False
-        return True
-
-    def restore(self):
-        for owner, attr, value in reversed(self._saved):
-            try:
-                setattr(owner, attr, value)
-            except (TypeError, ValueError, AttributeError, ReferenceError):
-                pass
-        self._saved.clear()
 
 
 def cycles_settings(scene, samples, max_bounces, pixel_filter, filter_width, seed):
@@ -126,7 +101,7 @@ class CyclesRender:
         self.use_job = False
         self.seconds = 0.0
         self._t0 = 0.0
-        self._ov = _Overrides()
+        self._ov = Overrides()
         self._hooked = False
 
     # handlers: called on Blender's render thread, so they only set flags
@@ -567,7 +542,9 @@ class SPECTRALGI_OT_compare_cycles(ModalJobOperator, bpy.types.Operator):
         except (AttributeError, RuntimeError):
             pass
         try:
-            report = compare_with_cycles(scene, context.evaluated_depsgraph_get(), log=self._say)
+            # the export sees what F12 renders (the viewport settings it changes do not reach Cycles' render)
+            with render_detail(scene, context.view_layer):
+                report = compare_with_cycles(scene, context.evaluated_depsgraph_get(), log=self._say)
         except ExportCancelled:
             self.report({"INFO"}, "Spectral GI: comparison cancelled")
             return {"CANCELLED"}
@@ -593,9 +570,10 @@ class SPECTRALGI_OT_compare_cycles(ModalJobOperator, bpy.types.Operator):
         """The run, begun (its Spectral GI worker started); None after reporting why it could not begin."""
         from ..export import ExportCancelled
 
-        run = ComparisonRun(context.scene, context.evaluated_depsgraph_get(), use_job=True, log=self._say)
         try:
-            run.begin()
+            with render_detail(context.scene, context.view_layer):  # the export sees what F12 renders
+                run = ComparisonRun(context.scene, context.evaluated_depsgraph_get(), use_job=True, log=self._say)
+                run.begin()
         except ExportCancelled:
             self.report({"INFO"}, "Spectral GI: comparison cancelled")
             return None

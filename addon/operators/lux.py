@@ -550,6 +550,7 @@ def prepare_job(context, objects):
     from ...core import luminaire_schedule
     from .. import lux_job
     from ..export import export_scene
+    from ..export.detail import render_detail
 
     tasks = []
     for o in objects:
@@ -559,7 +560,8 @@ def prepare_job(context, objects):
         except LuxInputError as exc:
             raise LuxInputError(f"{o.name!r}: {exc}") from None
         tasks.append(lux_job.SurfaceTask(o.name, build_surface(o), s.samples, s.rel_error or None))
-    exported = export_scene(context.evaluated_depsgraph_get(), context.scene)
+    with render_detail(context.scene, context.view_layer):  # the geometry a render sees, not the viewport's
+        exported = export_scene(context.evaluated_depsgraph_get(), context.scene)
     settings = getattr(context.scene, "spectral_gi", None)
     method = context.scene.spectral_gi_lux_method
     scale = context.scene.unit_settings.scale_length or 1.0

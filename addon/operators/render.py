@@ -15,12 +15,14 @@ class SPECTRALGI_OT_render(ModalJobOperator, bpy.types.Operator):
     def _prepare(self, context):
         """Export the scene; returns a RenderJob or None (after reporting why)."""
         from ..export import ExportCancelled, export_scene
+        from ..export.detail import render_detail
 
         render_job.STATE.phase = "Exporting scene"
         render_job.STATE.cancelling = False
         try:
-            result = export_scene(context.evaluated_depsgraph_get(), context.scene,
-                                  should_cancel=lambda: render_job.STATE.cancelling)
+            with render_detail(context.scene, context.view_layer):  # what F12 renders, not the viewport's detail
+                result = export_scene(context.evaluated_depsgraph_get(), context.scene,
+                                      should_cancel=lambda: render_job.STATE.cancelling)
         except ExportCancelled:
             self.report({"INFO"}, "Spectral GI: export cancelled")
             return None

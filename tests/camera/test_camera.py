@@ -97,7 +97,9 @@ def test_thin_lens_blurs_to_the_circle_of_confusion(distance):
 
 @pytest.mark.statistical
 @pytest.mark.parametrize("kind, width", [(C.FILTER_BOX, 1.0), (C.FILTER_BLACKMAN_HARRIS, 1.5),
-                                         (C.FILTER_GAUSSIAN, 1.5), (C.FILTER_BLACKMAN_HARRIS, 3.0)])
+                                         (C.FILTER_GAUSSIAN, 1.5), (C.FILTER_BLACKMAN_HARRIS, 3.0),
+                                         # the node comparison's pixel-centre filter (within 0.01 px)
+                                         (C.FILTER_GAUSSIAN, 0.02)])
 def test_filter_sampling_follows_the_filter(kind, width, alpha):
     table = filter_table(kind, width)
     rng = np.random.default_rng(5)

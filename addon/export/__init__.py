@@ -22,6 +22,10 @@ SAMPLER_TAGS = {"INDEPENDENT": "SAMPLER_INDEPENDENT", "HALTON": "SAMPLER_HALTON"
 COLOUR_SPACES = {"REC709": "rec709", "ACESCG": "acescg", "XYZ": "xyz"}  # add-on enum → RenderSettings
 OBSERVERS = {"CIE1931": "1931", "CIE1964": "1964"}
 FILTER_TAGS = {"BOX": "FILTER_BOX", "BLACKMAN_HARRIS": "FILTER_BLACKMAN_HARRIS", "GAUSSIAN": "FILTER_GAUSSIAN"}
+# Blender's Pixel Filter Width, read as Cycles reads it, → the core's filter support (pixels): Cycles
+# spreads its Blackman–Harris window over twice the width and gives its Gaussian σ = width/4 (the
+# core: the window over the width, σ = width/6); measured from Cycles' sample offsets in bpy
+FILTER_SUPPORT = {"BOX": 1.0, "BLACKMAN_HARRIS": 2.0, "GAUSSIAN": 1.5}
 
 
 @dataclass
@@ -42,7 +46,8 @@ def render_settings(scene):
     return RenderSettings(spp=int(get("samples")), max_depth=int(get("max_bounces")), seed=seed,
                           sampler=getattr(constants, SAMPLER_TAGS[get("sampler")]),
                           filter=getattr(constants, FILTER_TAGS[get("pixel_filter")]),
-                          filter_width=float(get("filter_width")), time_limit=float(get("time_limit")),
+                          filter_width=FILTER_SUPPORT[get("pixel_filter")] * float(get("filter_width")),
+                          time_limit=float(get("time_limit")),
                           noise_target=float(get("noise_target")),
                           colour_space=COLOUR_SPACES[str(getattr(s, "colour_space", "REC709"))],
                           observer=OBSERVERS[str(getattr(s, "observer", "CIE1931"))],

@@ -100,8 +100,8 @@ class SpectralGISceneSettings(bpy.types.PropertyGroup):
     )
     filter_width: FloatProperty(
         name="Filter Width",
-        description="Width of the pixel filter in pixels (Cycles' default 1.5 px)",
-        default=1.5, min=0.01, soft_max=10.0, max=100.0, subtype="PIXEL",
+        description="Width of the pixel filter in pixels, as Cycles reads it (default 1.5 px)",
+        default=1.5, min=0.01, soft_max=10.0, max=32.0, subtype="PIXEL",
     )
     time_limit: FloatProperty(
         name="Time Limit",

@@ -472,8 +472,8 @@ def mixed_plane(b, bpy, factor, shader, perspective):
     world.node_tree.nodes["Background"].inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
     world.node_tree.nodes["Background"].inputs["Strength"].default_value = 1.0 if lit else 0.0
     b.scene.world = world
-    if perspective:  # close and wide, so that the view's incidence varies across the plane
-        b.camera(location=(0.0, 0.0, 1.1), rotation=(0.0, 0.0, 0.0), lens=18.0)
+    if perspective:  # close and wide (90°), so that the view's incidence varies; the plane overfills the frame
+        b.camera(location=(0.0, 0.0, 0.9), rotation=(0.0, 0.0, 0.0), lens=18.0)
     else:
         cam = b.camera(location=(0.0, 0.0, 5.0), rotation=(0.0, 0.0, 0.0))
         cam.data.type = "ORTHO"

@@ -20,7 +20,9 @@ Node → model (α = roughness², as Cycles):
   conductor: its RGB η, κ interpolated over wavelength); Glass → (GGX_)DIELECTRIC,
   colour tinting reflection and transmission; Refraction →
   the same without reflection (noted); Transparent → a dielectric of IOR 1;
-  Emission → emission; Mix / Add Shader → MAT_MIX / MAT_ADD. A Blackbody node as an emitter's
+  Emission → emission; Mix / Add Shader → MAT_MIX / MAT_ADD (a Mix Shader whose Factor a node
+  graph drives: MAT_MIX with a mix program, and its constant emitters one emission program of
+  the two, (1 − Factor)·first + Factor·second). A Blackbody node as an emitter's
   colour gives Planck's spectrum at its temperature (luminance from its colour, Y = 1 as in Cycles).
 
 The Material Output's Volume socket becomes a homogeneous core Medium inside the mesh
@@ -43,7 +45,7 @@ from .convert import (
 from .nodes import (
     active_output, constant_input, ignored_links, image_node, image_pixels, input_value, normal_map_node,
     shader_inputs, surface_node)
-from .shading import compile_input as _compile_input, needs_program
+from .shading import compile_input as _compile_input, compile_mixed_emission, needs_program
 
 SUPPORTED_SURFACES = ("BSDF_PRINCIPLED", "BSDF_DIFFUSE", "BSDF_GLOSSY", "BSDF_METALLIC", "BSDF_GLASS",
                       "BSDF_REFRACTION", "BSDF_TRANSPARENT", "EMISSION", "MIX_SHADER", "ADD_SHADER",
@@ -75,7 +77,8 @@ def export_material(ctx, mat):
 
 # ----------------------------------------------------------------------------- the BSDF tree
 #
-# A tree is None (black: no BSDF), ("leaf", Material), ("mix", w_first, a, b) or ("add", a, b).
+# A tree is None (black: no BSDF), ("leaf", Material), ("mix", w_first, a, b), ("add", a, b) or
+# ("pmix", program, w_first, a, b): a mix whose weight of a is the program's value at each point.
 
 
 def _mix(w_first, a, b):
@@ -114,6 +117,9 @@ def _emit_tree(ctx, name, tree):
     ib = ctx.add_material(_emit_tree(ctx, f"{name} mix.b", b))
     if tree[0] == "mix":
         return Material(name=name, model=constants.MAT_MIX, params=[tree[1], float(ia), float(ib)])
+    if tree[0] == "pmix":
+        return Material(name=name, model=constants.MAT_MIX, params=[tree[2], float(ia), float(ib)],
+                        mix_program=tree[1])
     return Material(name=name, model=constants.MAT_ADD, params=[0.0, float(ia), float(ib)])
 
 
@@ -385,10 +391,13 @@ def program_input(ctx, owner, node, name, kind):
 
 class ProgramEmission(tuple):
     """An emitter term whose colour or strength a node graph drives: white, remembering the node
-    and its colour and strength inputs (compiled with the weight of the mixes above it)."""
+    and its colour and strength inputs (compiled with the weight of the mixes above it); or, with
+    ``mixed`` = (rgb of the first shader, rgb of the second), the emission of a Mix Shader whose
+    Factor a graph drives over constant emitters."""
 
     node = None
     names = ("Color", "Strength")
+    mixed = None
 
 
 def emission_term(ctx, owner, node, colour_name, strength_name):
@@ -621,6 +630,9 @@ def _shader(ctx, owner, node, depth=0):
         ctx.skip("shader mixes nested too deeply", f"{owner}/{node.name}")
         return None, []
     if kind == "MIX_SHADER":
+        programmed = _programmed_mix(ctx, owner, node, depth)
+        if programmed is not None:
+            return programmed
         fac = constant_input(ctx, owner, node, "Factor", 0.5)
         w = mix_first_weight(0.5 if fac is None else fac)
         a, b = shader_inputs(node)
@@ -680,6 +692,52 @@ def _shader(ctx, owner, node, depth=0):
         colour = DEFAULT_GREY
     return _leaf(name=f"{owner}: {node.name}", model=constants.MAT_LAMBERT, params=lambert_params(),
                  reflectance=_refl(ctx, owner, colour)), []
+
+
+def _programmed_mix(ctx, owner, node, depth):
+    """(tree, emissions) of a Mix Shader whose Factor a node graph drives, or None when it is a
+    constant (or its graph cannot be compiled: listed in the warning, 0.5 used). The tree is
+    ("pmix", program, constant weight, first, second) with the shaders swapped, so that the
+    program's value, the factor, is the weight of the first: the second shader's. Emitters
+    under it are weighted by the factor's own value (listed in the warning)."""
+    sock = node.inputs.get("Factor")
+    if not needs_program(sock, "value"):
+        return None
+    prog = compile_input(ctx, owner, node, "Factor", "value")
+    fac = float(sock.default_value)
+    if prog is None:
+        fac = 0.5
+    a, b = shader_inputs(node)
+    ta, ea = _shader(ctx, owner, a, depth + 1)
+    tb, eb = _shader(ctx, owner, b, depth + 1)
+    w = mix_first_weight(fac)
+    emissions = _scaled(ea, w) + _scaled(eb, 1.0 - w)
+    if prog is None:
+        return _mix(w, ta, tb), emissions
+    if ea or eb:
+        emissions = _mixed_emission(ctx, owner, node, ea, eb, w)
+    if ta is None and tb is None:
+        return None, emissions
+    return ("pmix", prog, 1.0 - w, tb or _emit_black_leaf(owner), ta or _emit_black_leaf(owner)), emissions
+
+
+def _summed_rgb(terms):
+    return tuple(sum(max(float(rgb[c]), 0.0) * s for rgb, s in terms) for c in range(3))
+
+
+def _mixed_emission(ctx, owner, node, ea, eb, w):
+    """The emitter terms of a Mix Shader whose Factor a graph drives, over the terms ``ea`` of
+    its first shader and ``eb`` of its second: one MixedEmission term when all of them are
+    constants, else the terms weighted by the Factor's own value (listed in the warning)."""
+    if any(isinstance(t, ProgramEmission) for t, _s in ea + eb):
+        ctx.note(f"{owner}: '{node.name}' emission weighted by its Factor's own value (a graph drives an "
+                 f"emitter under it too)")
+        return _scaled(ea, w) + _scaled(eb, 1.0 - w)
+    term = ProgramEmission((1.0, 1.0, 1.0))
+    term.node = node
+    term.names = None
+    term.mixed = (_summed_rgb(ea), _summed_rgb(eb))
+    return [(term, 1.0)]
 
 
 def _hair(ctx, owner, node):
@@ -945,18 +1003,30 @@ def _emission_program(ctx, name, emissions):
             consts.append((term, weight))
             continue
         node = term.node
-        colour_name, strength_name = term.names
         if prog < 0 and weight > 0.0:
-            k = compile_input(ctx, name, node, colour_name, "colour", scale=strength_name, weight=weight)
+            if term.mixed is not None:
+                k = compile_mixed_emission(ctx, name, node, *term.mixed, weight=weight, images=image_texture)
+            else:
+                colour_name, strength_name = term.names
+                k = compile_input(ctx, name, node, colour_name, "colour", scale=strength_name, weight=weight)
             if k is not None:
                 prog = k
                 continue
         elif prog >= 0:
             ctx.skip("shader nodes (the input's own value instead)",
                      f"{name}/{node.name}: a second emitter driven by a node graph")
-        consts.append((rgb_of(node.inputs[colour_name].default_value),
-                       float(node.inputs[strength_name].default_value) * weight))
+        consts += _constant_terms(node, term, weight)
     return consts, prog
+
+
+def _constant_terms(node, term, weight):
+    """The constant stand-in of a graph-driven emitter term: its inputs' own values (a mixed
+    emission: its shaders' terms by the Factor's own value)."""
+    if term.mixed is not None:
+        f = min(max(float(node.inputs["Factor"].default_value), 0.0), 1.0)
+        return [(term.mixed[0], (1.0 - f) * weight), (term.mixed[1], f * weight)]
+    colour_name, strength_name = term.names
+    return [(rgb_of(node.inputs[colour_name].default_value), float(node.inputs[strength_name].default_value) * weight)]
 
 
 # ----------------------------------------------------------------------------- the panel's override

@@ -202,6 +202,34 @@ def compile_input(ctx, owner, node, name, kind, scale=None, weight=1.0, images=N
     return len(ctx.programs) - 1
 
 
+def compile_mixed_emission(ctx, owner, node, rgb_a, rgb_b, weight=1.0, images=None):
+    """Index into ctx.programs of the emission (1 − f)·rgb_a + f·rgb_b of a Mix Shader ``node``
+    whose Factor f (clamped to [0, 1]) a node graph drives, times ``weight``; None when the
+    graph holds something unsupported (listed in the warning)."""
+    from ...core import UnsupportedNode as Unsupported
+    from ...core import compile_shader_output as compile_output
+
+    b = GraphBuilder(ctx, owner, images)
+    try:
+        fac = b.source(node.inputs["Factor"])
+    except GraphError as e:
+        ctx.skip("shader node graphs", f"{owner}/{node.name} input 'Factor': {e}")
+        return None
+    key = f"{owner}/{node.name} emission"
+    b.nodes[key] = {"type": "MIX", "props": {"data_type": "RGBA", "blend_type": "MIX", "clamp_factor": True},
+                    "inputs": {"Factor_Float": fac, "A_Color": tuple(rgb_a), "B_Color": tuple(rgb_b)}, "label": key}
+    try:
+        prog = compile_output({"nodes": b.nodes}, ("link", key, "Result_Color"), "colour", name=key,
+                              camera=getattr(ctx, "camera_from_world", None), weight=weight,
+                              window=getattr(ctx, "camera_window", None))
+    except Unsupported as e:
+        ctx.skip("shader nodes (the input's own value instead)",
+                 f"{owner}/{node.name} input 'Factor': '{e.node}' {e.why}")
+        return None
+    ctx.programs.append(prog)
+    return len(ctx.programs) - 1
+
+
 # ----------------------------------------------------------------------------- mesh attributes
 
 def program_attributes(ctx, material_indices):

@@ -291,7 +291,7 @@ def _trace_on(geo, mat, emt, med, txr, st, smp, cfg, scr, ray, state, rr, vis, r
                   (sn, (bu, bv)))
         if depth > st.max_depth:
             break
-        m, mix_w, dim = _pick_component(mat, st, smp, m, dim)
+        m, mix_w, dim = _pick_component(mat, st, smp, scr, m, dim, txr, (prim, (bu, bv), hit, (dx, dy, dz), sn))
         model = mat.model[m]
         if model == C.MAT_MIX or model == C.MAT_ADD:
             break

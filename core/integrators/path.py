@@ -998,17 +998,24 @@ def _emission(geo, mat, emt, st, cfg, scr, o, hit, t, prim, m, prev, vis, rc, tx
 
 
 @inline
-def _pick_component(mat, st, smp, m, dim):
-    """Mixes: one component of material m picked (Mix: by weight; Add: either, counted
-    twice), one dimension per level. Returns (material, weight, dim)."""
+def _pick_component(mat, st, smp, scr, m, dim, txr, surf):
+    """Mixes: one component of material m picked (Mix: by weight, a mix program's at the
+    hit; Add: either, counted twice), one dimension per level. txr, surf: the textures
+    record (None: a scene without textures or programs, the branch is not compiled) and
+    (prim, barycentrics, hit, ray direction, shading normal) for a mix program, whose registers are in scr. Returns
+    (material, weight, dim). The camera/BSDF step, the NEE's BSDF evaluation and both MIS
+    pdfs all use the one component picked, so they share the weight at this point."""
     key, pseed, s = smp
     mat_p = mat.params
     mix_w = 1.0
     for _ in range(C.MIX_DEPTH):
         mm = mat.model[m]
         if mm == C.MAT_MIX:
+            w = mat_p[m, 0]
+            if txr is not None:
+                w = _mix_weight(txr.shading, txr, scr, m, w, surf)
             u = rnd_f(st.sampler, key, pseed, s, dim, st.n_total)
-            m = int(mat_p[m, 1]) if u < mat_p[m, 0] else int(mat_p[m, 2])
+            m = int(mat_p[m, 1]) if u < w else int(mat_p[m, 2])
             dim += 1
         elif mm == C.MAT_ADD:
             m = int(mat_p[m, 1]) if rnd_f(st.sampler, key, pseed, s, dim, st.n_total) < 0.5 else int(mat_p[m, 2])
@@ -1017,6 +1024,22 @@ def _pick_component(mat, st, smp, m, dim):
         else:
             break
     return m, mix_w, dim
+
+
+@function
+def _mix_weight(shd, txr, scr, m, w, surf):
+    """The weight of mix m's first component at the hit: its mix program's x clamped to
+    [0, 1] (as Cycles clamps the Mix Shader's factor), else w. shd None: a scene without
+    programs (nothing of this is compiled for it)."""
+    if shd is not None:
+        start = shd.mat_prog[m, 4]
+        if start >= 0:
+            prim, bary, hit, d, sn = surf
+            ctx = (hit[0], hit[1], hit[2], sn[0], sn[1], sn[2], hit[3], hit[4], hit[5], -d[0], -d[1], -d[2])
+            x, _y, _z = run_program(shd.prog_ops, shd.prog_consts, txr.tex_data, txr.tex_info, shd.tri_attr,
+                                    np.int64(start), np.int64(prim), bary[0], bary[1], ctx, scr.stack.view(np.float32))
+            w = clamp01(x)
+    return w
 
 
 @fragment
@@ -1455,7 +1478,8 @@ def render_rows(y0, y1, s0, s1, fr, geo, mat, emt, med, txr, camr, st, scr, act,
                               vis, rc, txr, (sn, (bu, bv)))
                     if depth > st.max_depth:
                         break
-                    m, mix_w, dim = _pick_component(mat, st, smp, m, dim)
+                    m, mix_w, dim = _pick_component(mat, st, smp, scr, m, dim, txr,
+                                                    (prim, (bu, bv), hit, (dx, dy, dz), sn))
                     model = mat.model[m]
                     if model == C.MAT_MIX or model == C.MAT_ADD:
                         break

@@ -134,7 +134,8 @@ class Material:
     see core/bsdfs/params.py), its spectral inputs and an optional emission.
 
     MAT_MIX / MAT_ADD combine two other materials: params[0] is the mix weight of the
-    first (MIX), params[1] and params[2] the indices of the two materials.
+    first (MIX; ``mix_program`` gives it per shading point instead), params[1] and
+    params[2] the indices of the two materials.
     """
 
     name: str
@@ -159,6 +160,7 @@ class Material:
     roughness_program: int = -1  # x: Blender roughness r, GGX α = r² (GGX and plastic models)
     emission_program: int = -1  # rgb radiance (Blender colour × strength) added to the emission
     normal_program: int = -1  # the shading normal (world space, Bump / Normal Map nodes)
+    mix_program: int = -1  # MAT_MIX only: x clamped to [0, 1] is the first's weight in place of params[0]
     holdout: bool = False  # Cycles' Holdout shader: a hole (alpha 0) for camera rays, black and absorbing for others
 
 

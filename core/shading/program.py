@@ -2,8 +2,10 @@
 
 A :class:`Program` is a flat int32 op array and a float32 constant array (layout:
 core/shading/ops.py), compiled from a node graph (core/shading/compiler.py) and evaluated
-per shading point by core/shading/interp.py. A material names up to three programs
-(``Material.base_colour_program``, ``roughness_program``, ``emission_program``); the corner
+per shading point by core/shading/interp.py. A material names up to five programs
+(``Material.base_colour_program``, ``roughness_program``, ``emission_program``,
+``normal_program`` and, on a MAT_MIX, ``mix_program``: the weight of its first component,
+x clamped to [0, 1], in place of params[0]); the corner
 attributes a program reads (UV maps, colour attributes, generated and object coordinates)
 are named in ``Program.attributes`` and carried per mesh in ``Mesh.attributes``.
 """
@@ -15,11 +17,12 @@ import numpy as np
 
 from . import ops as O
 
-PROGRAM_FIELDS = ("base_colour_program", "roughness_program", "emission_program", "normal_program")
+PROGRAM_FIELDS = ("base_colour_program", "roughness_program", "emission_program", "normal_program", "mix_program")
 SLOT_BASE = 0
 SLOT_ROUGHNESS = 1
 SLOT_EMISSION = 2
 SLOT_NORMAL = 3
+SLOT_MIX = 4
 WORLD_POSITION = "@world"  # the corners' world positions: filled from the meshes, not from Mesh.attributes
 # ops whose q parameter is an offset into the constants, or an attribute index
 Q_CONST = (O.OP_XFORM, O.OP_TABLE, O.OP_CURVES, O.OP_RAMP, O.OP_PROC)
@@ -105,6 +108,8 @@ def check_scene(scene, fail):
                 fail(f"materials[{i}] ({m.name!r}).{key}", f"program index {k!r} out of range [-1, {n_p})")
         if m.roughness_program >= 0 and m.model not in (C.MAT_GGX_CONDUCTOR, C.MAT_GGX_DIELECTRIC, C.MAT_PLASTIC):
             fail(f"materials[{i}] ({m.name!r}).roughness_program", f"model {m.model} has no GGX roughness")
+        if m.mix_program >= 0 and m.model != C.MAT_MIX:
+            fail(f"materials[{i}] ({m.name!r}).mix_program", f"model {m.model} is not a mix (MAT_MIX {C.MAT_MIX})")
     for i, mesh in enumerate(scene.meshes):
         attrs = mesh.attributes or {}
         if not isinstance(attrs, dict):

@@ -16,8 +16,8 @@ class ShadingRecord(NamedTuple):
 
     prog_ops: int32 (N,) all programs' instructions, constants and attributes relocated.
     prog_consts: float32 (M,) their constants.
-    mat_prog: int32 (K, 4) the start in prog_ops of each material's base colour, roughness,
-        emission and normal program (-1 none).
+    mat_prog: int32 (K, 5) the start in prog_ops of each material's base colour, roughness,
+        emission, normal and mix program (-1 none).
     tri_attr: float32 (T, 9·A) each triangle's corner values (3 corners × 3) of the A attributes.
     refl_row: int, the first of the three reflectance basis rows of the spectrum table (-1 none).
     emit_row: int, the first of the three emission basis rows (-1 none).

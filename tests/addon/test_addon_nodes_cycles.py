@@ -442,3 +442,94 @@ def test_pixel_filter_width_reads_as_cycles(ext, bpy, pixel_filter, width):
     mean, p99 = float(de.mean()), float(np.percentile(de, 99))
     print(f"{pixel_filter} {width}: ΔE00 mean {mean:.3f}, p99 {p99:.3f}")
     assert mean <= 1.0 and p99 <= 3.0, (mean, p99)
+
+
+# ----------------------------------------------------------------------------- Mix Shader factors
+
+
+def mix_fac_generated_x(nt, tc):
+    return _sep(nt, tc.outputs["Generated"]).outputs["X"]
+
+
+def mix_fac_layer_weight_facing(nt, tc):
+    lw = nt.nodes.new("ShaderNodeLayerWeight")
+    lw.inputs["Blend"].default_value = 0.6
+    return lw.outputs["Facing"]
+
+
+# (factor, the two shaders); the perspective cases put the camera close to the plane
+MIX_CASES = {"generated_x": (mix_fac_generated_x, "ShaderNodeBsdfDiffuse"),
+             "layer_weight_facing": (mix_fac_layer_weight_facing, "ShaderNodeBsdfDiffuse"),
+             "emission_generated_x": (mix_fac_generated_x, "ShaderNodeEmission"),
+             "emission_layer_weight_facing": (mix_fac_layer_weight_facing, "ShaderNodeEmission")}
+MIX_COLOURS = ((0.8, 0.25, 0.1, 1.0), (0.1, 0.35, 0.8, 1.0))
+
+
+def mixed_plane(b, bpy, factor, shader, perspective):
+    """A plane of a Mix Shader of two Diffuse BSDFs (under a white world of strength 1: nothing
+    but the world lights it, so each point's radiance is its mixed albedo times the world) or
+    two Emission shaders (no world) whose Factor ``factor`` drives."""
+    mat = bpy.data.materials.new("Mixed")
+    nt = mat.node_tree
+    nt.nodes.clear()
+    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    mix = nt.nodes.new("ShaderNodeMixShader")
+    for k, rgb in enumerate(MIX_COLOURS):
+        d = nt.nodes.new(shader)
+        d.inputs["Color"].default_value = rgb
+        nt.links.new(d.outputs[0], mix.inputs[1 + k])
+    tc = nt.nodes.new("ShaderNodeTexCoord")
+    nt.links.new(factor(nt, tc), mix.inputs[0])
+    nt.links.new(mix.outputs[0], out.inputs["Surface"])
+    b.plane("Plane", size=2.0, material=mat)
+    world = bpy.data.worlds.new("White")
+    world.use_nodes = True
+    lit = shader != "ShaderNodeEmission"
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 1.0 if lit else 0.0
+    b.scene.world = world
+    if perspective:  # close and wide (90°), so that the view's incidence varies; the plane overfills the frame
+        b.camera(location=(0.0, 0.0, 0.9), rotation=(0.0, 0.0, 0.0), lens=18.0)
+    else:
+        cam = b.camera(location=(0.0, 0.0, 5.0), rotation=(0.0, 0.0, 0.0))
+        cam.data.type = "ORTHO"
+        cam.data.ortho_scale = 2.0
+    b.resolution(RES, RES)
+    s = b.scene.spectral_gi
+    s.samples, s.max_bounces, s.seed = 2 * SAMPLES if lit else SAMPLES, 1 if lit else 0, 1
+    s.pixel_filter, s.filter_width = "GAUSSIAN", 0.02  # Cycles renders a box 1 px wide
+    return mat
+
+
+@pytest.mark.parametrize("name", sorted(MIX_CASES))
+def test_mix_shader_factor_program_matches_cycles(ext, bpy, name):
+    """The Mix Shader's Factor as a program per shading point (of two BSDFs: a mix program; of
+    two emitters: one emission program): the image of the plane, and the halves' mean
+    luminance (the left one mixing mostly the first shader, the right one the second)."""
+    compare = importlib.import_module(ext.module.__name__ + ".addon.operators.compare")
+    b = ext.build
+    factor, shader = MIX_CASES[name]
+    mixed_plane(b, bpy, factor, shader, perspective="layer_weight" in name)
+    scene = b.scene
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    core_scene, film, _stats, warning = compare.render_ours(scene, depsgraph)
+    mixes = [m for m in core_scene.materials if m.model == ext.core.constants.MAT_MIX]
+    if shader == "ShaderNodeEmission":
+        assert not mixes and any(m.emission_program >= 0 for m in core_scene.materials), warning
+    else:
+        assert len(mixes) == 1 and mixes[0].mix_program >= 0, warning
+    assert not warning or "Mixed" not in warning, warning
+    ours = film.develop().rgb
+    m = compare.matched_settings(scene, core_scene.settings, film.spp)
+    ref = compare.render_cycles_rgb(scene, m["samples"], m["max_bounces"], m["pixel_filter"], m["filter_width"],
+                                    m["seed"])
+    _report, de = ext.core.compare_images(ours, ref)
+    mean, p99 = float(de.mean()), float(np.percentile(de, 99))
+    lum = np.array([0.2126, 0.7152, 0.0722])
+    half = RES // 2
+    ratios = [float((ours[:, sl] @ lum).mean() / (ref[:, sl] @ lum).mean())
+              for sl in (slice(0, half), slice(half, RES))]
+    FIGURES[f"mix {name}"] = (mean, p99)
+    print(f"mix {name}: ΔE00 mean {mean:.3f}, p99 {p99:.3f}, luminance ratio (left, right) {ratios}")
+    assert mean <= 1.0 and p99 <= 3.0, (name, mean, p99)
+    assert all(abs(r - 1.0) <= 0.03 for r in ratios), ratios

@@ -267,9 +267,9 @@ def element_form_factors(receivers, senders, occluders=None, *, n_points=16, n_v
     triangle s (each (·, 3, 3), counter-clockwise seen from its front), with visibility
     through ``occluders`` (triangles (T, 3, 3); None: the receivers and senders themselves;
     an empty array: none): Lambert's formula (item 57) at k = 4^m ≤ n_points points of r,
-    times the fraction of n_vis stratified shadow rays from each point to s that arrive
-    (0: no visibility test). Exact without occlusion as the points grow; a patch never sees
-    itself, so pass each triangle once."""
+    times the visible share of n_vis stratified shadow rays from each point to s, each
+    weighted by its differential form factor (0: no visibility test). Exact without
+    occlusion as the points grow; a patch never sees itself, so pass each triangle once."""
     from ..render import thread_count
 
     rec = np.asarray(receivers, np.float64).reshape(-1, 3, 3)

@@ -5,8 +5,10 @@ one of three loops over rows of receivers (points with a normal):
   over its K sample points) to patch cols[c], with visibility (compendium item 58 in its
   second form, a point-to-area integral averaged over the receiver): at each sample point
   x the unoccluded factor of the whole triangle by Lambert's formula (item 57, the
-  triangle clipped to the hemisphere above x), times the fraction of n_vis shadow rays
-  from x to stratified points of the triangle (a scrambled (0, 2)-net) that reach it.
+  triangle clipped to the hemisphere above x), times the visible share of n_vis shadow
+  rays from x to stratified points of the triangle (a scrambled (0, 2)-net), each ray
+  weighted by the differential form factor cos θ_x cos θ_y / r² (item 55) of its point, so
+  that the share is that of the factor, ∫ V dF / ∫ dF, and not of the area.
   Exact where nothing occludes, and the closure Σ_j F_{x→j} = 1 of a closed scene then
   holds at every sample point (item 60);
 * OP_DIRECT: out[r, l] = the mean over r's sample points and n_vis light samples of
@@ -26,7 +28,14 @@ one of three loops over rows of receivers (points with a normal):
 * OP_GATHER: row r is a point pts[r, 0] on a patch with normal nrm[r] (key own[r]); n_vis
   cosine-distributed gather rays from it (stratified, a scrambled (0, 2)-net) find the
   patch each reaches first: out[r, 3s:3s+3] = (patch, b1, b2) as for OP_CAMERA: the
-  final gather's reading of the solution.
+  final gather's reading of the solution;
+* OP_EMITTERS: OP_FORM_FACTORS with adaptive visibility, for the pairs that carry direct
+  light (an emitting patch and its receivers): the first EMIT_FIRST shadow rays of each
+  (point, patch) pair and three rays to the patch's corners decide; where some arrive and
+  some do not (the point is in a penumbra of that patch; a straight shadow edge across the
+  triangle always separates its corners) the pair goes on to n_vis rays, continuing the
+  same (0, 2)-sequence, so a penumbra's visibility is resolved by n_vis rays where a full
+  or an empty view costs EMIT_FIRST + 3.
 
 Random numbers are a pure function of (seed, row, sample point, column, ray), the row being
 the receiver's own patch where it has one, so results do not depend on threads or on how
@@ -55,6 +64,8 @@ OP_DIRECT = 1
 OP_SHOOT = 2
 OP_CAMERA = 3
 OP_GATHER = 4
+OP_EMITTERS = 5
+EMIT_FIRST = 16  # OP_EMITTERS: shadow rays per pair before it decides whether the pair is in a penumbra
 
 INV_TWO_PI = 0.5 / math.pi
 
@@ -197,8 +208,26 @@ def _frame(nx, ny, nz):
     return 1.0 + sgn * nx * nx * a, sgn * b, -sgn * nx, b, sgn + ny * ny * a, -ny
 
 
+@inline
+def _corners_seen(pat, j, ox, oy, oz, eps, stack):
+    """How many of patch j's three corners (each moved in by 1e-3 of the way to the
+    opposite edge's ends, off the edges) the point o sees past the occluders."""
+    n = 0
+    for k in range(3):
+        b1 = 0.998 if k == 1 else 0.001
+        b2 = 0.998 if k == 2 else 0.001
+        dx = pat.v0[j, 0] + b1 * pat.e1[j, 0] + b2 * pat.e2[j, 0] - ox
+        dy = pat.v0[j, 1] + b1 * pat.e1[j, 1] + b2 * pat.e2[j, 1] - oy
+        dz = pat.v0[j, 2] + b1 * pat.e1[j, 2] + b2 * pat.e2[j, 2] - oz
+        d = math.sqrt(dx * dx + dy * dy + dz * dz)
+        if d <= eps or not trace_occluded(ox, oy, oz, dx / d, dy / d, dz / d, 0.0, d - eps, pat.occ_nodes,
+                                          pat.occ_tris, stack):
+            n += 1
+    return n
+
+
 @function
-def _form_factor_row(pat, qry, r, n_vis, seed, eps, out, poly, stack):
+def _form_factor_row(pat, qry, r, n_first, n_vis, seed, eps, out, poly, stack):
     nx = qry.nrm[r, 0]
     ny = qry.nrm[r, 1]
     nz = qry.nrm[r, 2]
@@ -225,7 +254,20 @@ def _form_factor_row(pat, qry, r, n_vis, seed, eps, out, poly, stack):
                 oz = pz + eps * nz
                 ps = _seed(seed, key, s, j)
                 seen = 0
+                cast = 0
+                w_all = 0.0
+                w_seen = 0.0
+                corners = -1  # how many of the triangle's corners x sees (-1: not asked)
+                if n_first < n_vis:
+                    corners = _corners_seen(pat, j, ox, oy, oz, eps, stack)
                 for m in range(n_vis):
+                    # after the first n_first rays, go on only where they or the corners disagree (a
+                    # penumbra: a straight shadow edge across the triangle separates its corners); the
+                    # rays are a prefix of one (0, 2)-sequence, so each count is a stratified net
+                    if m == n_first and ((seen == 0 and corners <= 0) or (seen == m and corners != 0
+                                                                           and corners != 1 and corners != 2)):
+                        break
+                    cast += 1
                     u, v = sobol_pair_both(np.uint64(m), ps, np.uint64(0))
                     yx, yy, yz = _triangle_point(pat.v0, pat.e1, pat.e2, j, u, v)
                     dx = yx - ox
@@ -235,10 +277,19 @@ def _form_factor_row(pat, qry, r, n_vis, seed, eps, out, poly, stack):
                     if d <= eps:
                         seen += 1
                         continue
+                    # the ray's weight: the differential form factor cos θ_x cos θ_y / r² (item 55)
+                    cx = (nx * dx + ny * dy + nz * dz) / d
+                    cy = -(pat.nrm[j, 0] * dx + pat.nrm[j, 1] * dy + pat.nrm[j, 2] * dz) / d
+                    w = max(cx, 0.0) * max(cy, 0.0) / (d * d)
+                    w_all += w
                     if not trace_occluded(ox, oy, oz, dx / d, dy / d, dz / d, 0.0, d - eps, pat.occ_nodes,
                                           pat.occ_tris, stack):
                         seen += 1
-                f *= seen / n_vis
+                        w_seen += w
+                # the visible share of the unoccluded factor: the rays weighted by the differential form
+                # factor, so a hidden part counts by its share of F, not of the area (the ray count where
+                # every weight is 0)
+                f *= w_seen / w_all if w_all > 0.0 else seen / cast
             acc += f
         out[r, c] = acc * inv_k
 
@@ -385,12 +436,14 @@ def radiosity_rays(op, r0, r1, pat, qry, lit, n_vis, seed, eps, out, hits, poly,
     """Rows r0 .. r1-1 of operation ``op`` (OP_*, see the module text) into ``out`` (float64
     (R, C)) or, for OP_SHOOT, rays r0 .. r1-1 into ``hits`` (int32 (N,)). pat, qry, lit: the
     records above; n_vis: shadow rays per (point, patch) pair, light samples per point, or
-    camera or gather rays per row;
+    camera or gather rays per row (OP_EMITTERS: at most, per pair);
     seed: the RNG seed; eps: the ray offset, m; poly: float64 (8, 3) and stack: int32
     (STACK_SIZE,) scratch of the calling thread."""
     for r in range(r0, r1):
         if op == OP_FORM_FACTORS:
-            _form_factor_row(pat, qry, r, n_vis, seed, eps, out, poly, stack)
+            _form_factor_row(pat, qry, r, n_vis, n_vis, seed, eps, out, poly, stack)
+        elif op == OP_EMITTERS:
+            _form_factor_row(pat, qry, r, min(n_vis, EMIT_FIRST), n_vis, seed, eps, out, poly, stack)
         elif op == OP_DIRECT:
             _direct_row(pat, qry, lit, r, n_vis, seed, eps, out, stack)
         elif op == OP_CAMERA:

@@ -101,6 +101,7 @@ class _Context:
     n_vis: int
     threads: int
     xyz_band: np.ndarray = None  # (K, 3) ∫_band x̄, ȳ, z̄ dλ
+    n_emit: int = 0  # shadow rays per (point, emitting patch) pair in a penumbra (0: no visibility)
 
 
 # ------------------------------------------------------------------------------ bands
@@ -266,9 +267,9 @@ def element_form_factors(receivers, senders, occluders=None, *, n_points=16, n_v
     triangle s (each (·, 3, 3), counter-clockwise seen from its front), with visibility
     through ``occluders`` (triangles (T, 3, 3); None: the receivers and senders themselves;
     an empty array: none): Lambert's formula (item 57) at k = 4^m ≤ n_points points of r,
-    times the fraction of n_vis stratified shadow rays from each point to s that arrive
-    (0: no visibility test). Exact without occlusion as the points grow; a patch never sees
-    itself, so pass each triangle once."""
+    times the visible share of n_vis stratified shadow rays from each point to s, each
+    weighted by its differential form factor (0: no visibility test). Exact without
+    occlusion as the points grow; a patch never sees itself, so pass each triangle once."""
     from ..render import thread_count
 
     rec = np.asarray(receivers, np.float64).reshape(-1, 3, 3)
@@ -283,6 +284,27 @@ def element_form_factors(receivers, senders, occluders=None, *, n_points=16, n_v
     qry = _query(sample_points(rec, n_points), nrm, np.full(rec.shape[0], -1), np.arange(snd.shape[0]))
     return run_op(K.OP_FORM_FACTORS, pat, qry, _no_lights(), snd.shape[0], n_vis, seed, _eps(occ),
                   thread_count(threads)).astype(np.float64)
+
+
+def emitter_pairs(F, rows, emit, pat, pts, nrm, own, lit, n_emit, seed, eps, threads, should_cancel=None):
+    """Replace in ``F`` (R, n), the form factors of receivers ``rows`` (their points
+    ``pts``, normals ``nrm``, own patches ``own``) to every patch, the pairs that carry
+    direct light by their adaptive estimate (``kernel.OP_EMITTERS``, up to ``n_emit``
+    shadow rays where a pair is in a penumbra): the columns of the emitting patches
+    ``emit``, and the whole rows of the receivers that emit (so the shooting solvers, which
+    read an emitter's row, see the same visibility). ``rows``: the patch of each row of F,
+    or None for points that are no patch. Returns F."""
+    if emit.size == 0 or n_emit <= 0 or F.shape[0] == 0:
+        return F
+    F[:, emit] = run_op(K.OP_EMITTERS, pat, _query(pts, nrm, own, emit), lit, emit.size, n_emit, seed, eps,
+                        threads, should_cancel=should_cancel)
+    if rows is not None:
+        hit = np.nonzero(np.isin(rows, emit))[0]
+        if hit.size:
+            cols = np.arange(F.shape[1], dtype=np.int32)
+            F[hit] = run_op(K.OP_EMITTERS, pat, _query(pts[hit], nrm[hit], own[hit], cols), lit, F.shape[1],
+                            n_emit, seed, eps, threads, should_cancel=should_cancel)
+    return F
 
 
 # ------------------------------------------------------------------------------ the scene's inputs
@@ -401,7 +423,8 @@ def _stochastic(ctx, patches, rho_b, Be_b, H0_b, v_band, rays, tol, max_iter, se
         for a in range(0, n, block):
             sl = slice(a, min(n, a + block))
             qry = _query(pts[sl], patches.normal[sl], np.arange(n, dtype=np.int32)[sl], emit)
-            fe = run_op(K.OP_FORM_FACTORS, ctx.pat, qry, ctx.lit, emit.size, ctx.n_vis, seed, ctx.eps, threads)
+            op, nv = (K.OP_EMITTERS, ctx.n_emit) if ctx.n_emit > 0 else (K.OP_FORM_FACTORS, ctx.n_vis)
+            fe = run_op(op, ctx.pat, qry, ctx.lit, emit.size, nv, seed, ctx.eps, threads)
             H[sl] += fe.astype(np.float64) @ Be_b[emit]
     Hd = H.copy()
     dP = area[:, None] * rho_b * H
@@ -444,8 +467,8 @@ def _stochastic(ctx, patches, rho_b, Be_b, H0_b, v_band, rays, tol, max_iter, se
 
 
 def radiosity(scene, *, max_edge=None, sides="both", method="gauss-seidel", tol=1e-5, max_iter=None,
-              band_width=10.0, n_points=4, n_vis=8, n_light=64, rays=None, refine_threshold=None, refine_steps=2,
-              min_area=0.0, seed=0, threads=None, progress=None, should_cancel=None):
+              band_width=10.0, n_points=4, n_vis=8, n_emit=1024, n_light=64, rays=None, refine_threshold=None,
+              refine_steps=2, min_area=0.0, seed=0, threads=None, progress=None, should_cancel=None):
     """Solve ``scene`` by radiosity (see the module text) and return a :class:`RadiositySolution`.
 
     max_edge: patch size, m (None: the scene's triangles); sides: "both" or "front"
@@ -454,7 +477,9 @@ def radiosity(scene, *, max_edge=None, sides="both", method="gauss-seidel", tol=
     residual to stop at (solvers); max_iter: iterations (None: each solver's default);
     band_width: nm per band (1: the renderer's grid, exact); n_points: sample points per
     receiving patch (4^m ≤ n_points); n_vis: shadow rays per pair of point and patch (0:
-    no occlusion, for convex rooms); n_light: samples per point per analytic light;
+    no occlusion, for convex rooms); n_emit: shadow rays per pair of point and emitting
+    patch where the first 16 of them disagree (a penumbra; kernel.OP_EMITTERS), the direct
+    light's visibility; n_light: samples per point per analytic light;
     rays: rays per stochastic iteration (None: 64 per patch); refine_threshold: split
     patches whose luminance differs from a neighbour's by more than this fraction and solve
     again, up to refine_steps times, down to min_area m²; progress(stage, a, b):
@@ -474,6 +499,8 @@ def radiosity(scene, *, max_edge=None, sides="both", method="gauss-seidel", tol=
                          "southwell or stochastic")
     if not (float(tol) > 0):
         raise SceneError(f"radiosity tol: expected a positive number, got {tol!r}")
+    if isinstance(n_emit, bool) or not isinstance(n_emit, (int, np.integer)) or n_emit < 1:
+        raise SceneError(f"radiosity n_emit: expected a whole number of shadow rays ≥ 1, got {n_emit!r}")
     n_threads = thread_count(threads)
     cmf = cmf_table(scene.settings.observer)
     spec = spectrum_table(scene)
@@ -487,7 +514,7 @@ def radiosity(scene, *, max_edge=None, sides="both", method="gauss-seidel", tol=
     for step in range(int(refine_steps) + 1 if refine_threshold else 1):
         sol = _solve_patches(scene, spec, cmf, patches, lit, light_bands, bidx, vw, v_band, xyz_band, edges,
                              method, tol, max_iter, n_points, n_vis, n_light, rays, seed, n_threads, progress,
-                             should_cancel)
+                             should_cancel, 0 if n_vis == 0 else max(int(n_emit), int(n_vis)))
         if not refine_threshold or step == int(refine_steps) or any(s.cancelled for s in sol.stats):
             break
         patches, n_split = meshing.refine(sol.patches, sol.luminance, refine_threshold, min_area)
@@ -500,7 +527,7 @@ def radiosity(scene, *, max_edge=None, sides="both", method="gauss-seidel", tol=
 
 
 def _solve_patches(scene, spec, cmf, patches, lit, light_bands, bidx, vw, v_band, xyz_band, edges, method, tol,
-                   max_iter, n_points, n_vis, n_light, rays, seed, threads, progress, should_cancel):
+                   max_iter, n_points, n_vis, n_light, rays, seed, threads, progress, should_cancel, n_emit):
     t_start = time.perf_counter()
     seconds = {}
     nb = v_band.size
@@ -534,7 +561,8 @@ def _solve_patches(scene, spec, cmf, patches, lit, light_bands, bidx, vw, v_band
     rho_b = rho_mb[patches.material]
     be_b = np.where(emits[:, None], be_mb[patches.material], 0.0)
     H0 = direct @ light_bands  # (n, K) W/(m² nm)
-    ctx = _Context(pat, lit, light_bands, v_band, eps, seed, n_light, n_vis, threads, xyz_band)
+    ctx = _Context(pat, lit, light_bands, v_band, eps, seed, n_light, n_vis, threads, xyz_band, n_emit)
+    emit_idx = np.nonzero(emits)[0].astype(np.int32)
     if method == "stochastic":
         B, H, Hd, stats = _stochastic(ctx, patches, rho_b, be_b, H0, v_band, 64 * n if rays is None else int(rays),
                                   tol, 10000 if max_iter is None else int(max_iter), seed,
@@ -550,14 +578,18 @@ def _solve_patches(scene, spec, cmf, patches, lit, light_bands, bidx, vw, v_band
         if method == "southwell":  # rows on demand: only the patches that shoot need theirs
             def compute(idx):
                 q = _query(pts[idx], patches.normal[idx], own[idx], cols)
-                return run_op(K.OP_FORM_FACTORS, pat, q, lit, n, n_vis, seed, eps, threads,
+                rows = run_op(K.OP_FORM_FACTORS, pat, q, lit, n, n_vis, seed, eps, threads,
                               should_cancel=should_cancel)
+                return emitter_pairs(rows, own[idx], emit_idx, pat, pts[idx], patches.normal[idx], own[idx], lit,
+                                     n_emit, seed, eps, threads, should_cancel)
 
             F = solvers.RowCache(n, compute)
         else:
             F = run_op(K.OP_FORM_FACTORS, pat, _query(pts, patches.normal, own, cols), lit, n, n_vis, seed, eps,
                        threads, should_cancel=should_cancel,
                        report=None if progress is None else (lambda a, b: progress("form factors", a, b)))
+            emitter_pairs(F, own, emit_idx, pat, pts, patches.normal, own, lit, n_emit, seed, eps, threads,
+                          should_cancel)
             seconds["form factors"] = time.perf_counter() - t0
         E = be_b + rho_b * H0
         B, stats = _solve_groups(method, F, rho_b, E, patches.area, tol, max_iter, v_band,
@@ -586,7 +618,8 @@ def illuminance_at(solution, points, normals, *, direct=True, indirect=True, n_p
     solution: the analytic lights (and a constant world) by next-event sampling with shadow
     rays, as the patches received them, plus Σ_j F_{x→j} B_j over every patch (the
     emitting patches' light is the direct part, the others' the indirect), with
-    visibility. ``direct``/``indirect``: include the analytic lights and emitting patches
+    visibility (to the emitting patches adaptive, up to the solution's ``n_emit`` shadow
+    rays where a point is in a penumbra). ``direct``/``indirect``: include the analytic lights and emitting patches
     (direct) or the reflected light (indirect). Returns (N,) lux."""
     from ...integrators.illuminance import _points, _unit
 
@@ -604,8 +637,11 @@ def illuminance_at(solution, points, normals, *, direct=True, indirect=True, n_p
                    ctx.seed + 1, ctx.eps, ctx.threads).astype(np.float64)
         H += d @ ctx.light_bands
     F = run_op(K.OP_FORM_FACTORS, ctx.pat, _query(pts, nrm, own, np.arange(n, dtype=np.int32)), ctx.lit, n,
-               ctx.n_vis, ctx.seed + 1, ctx.eps, ctx.threads).astype(np.float64)
+               ctx.n_vis, ctx.seed + 1, ctx.eps, ctx.threads)
     Be = solution.emitted
+    emit = np.nonzero(np.any(Be > 0, axis=1))[0].astype(np.int32)
+    F = emitter_pairs(F, None, emit, ctx.pat, pts, nrm, own, ctx.lit, ctx.n_emit, ctx.seed + 1, ctx.eps,
+                      ctx.threads).astype(np.float64)
     if direct:
         H += F @ Be
     if indirect:

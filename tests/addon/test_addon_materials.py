@@ -1,4 +1,5 @@
 """Blender materials → the core's BSDF models: node mapping, Principled trees, mixes, the panel override."""
+import importlib
 import math
 
 import numpy as np
@@ -345,8 +346,11 @@ def test_principled_tree_and_unsupported_inputs(ext, bpy):
     assert root.emission_luminance == pytest.approx(K_M * 2.0 * y, rel=1e-5)
     w = res.warning
     assert "\n" not in w and w.count("Not exported") == 1
-    for what in ("coat 0.5 (ignored)", "sheen 0.2 (ignored)", "subsurface 0.1 (diffuse base colour)",
-                 "thin film 300 (ignored)"):
+    P = importlib.import_module(ext.core.__name__ + ".bsdfs.params")
+    assert plastic.params[P.P_COAT] == pytest.approx(0.5) and plastic.params[P.P_SHEEN] == pytest.approx(0.2)
+    for what in ("coat 0.5 (on the metallic and transmission components ignored",
+                 "sheen 0.2 (on the metallic and transmission components ignored",
+                 "subsurface 0.1 (diffuse base colour)", "thin film 300 (ignored)"):
         assert what in w, (what, w)
     ext.core.validate(s)
 

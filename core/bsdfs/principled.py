@@ -51,7 +51,8 @@ wavelengths: the sheen s R NW, the coat W_s c F(μo) NW, the base W_s W_c T̄ Σ
 is the mixture, whichever lobe drew wi.
 
 A row with c = s = 0 (entries 5-10 zero) is the plain plastic: ``plastic_eval`` and
-``plastic_sample_dir`` test the two entries and call plastic.py directly.
+``plastic_sample_dir`` (inlined into the dispatch, so the plain plastic pays one test and
+no extra call) test the two entries and call plastic.py directly.
 """
 import math
 
@@ -262,7 +263,7 @@ def principled_sample_dir(p, ra, rb, eta, kappa, wox, woy, woz, u1, u2, u3):
     return plastic_base_sample_dir(p, ra, rb, eta, wox, woy, woz, u1, u2, u)
 
 
-@function
+@inline
 def plastic_eval(p, ra, rb, eta, kappa, wox, woy, woz, wix, wiy, wiz, out_f, want_f):
     """MAT_PLASTIC: the plain plastic (plastic.py) or, with a coat or a sheen, the layered model."""
     if p[P_COAT] != 0.0 or p[P_SHEEN] != 0.0:
@@ -270,7 +271,7 @@ def plastic_eval(p, ra, rb, eta, kappa, wox, woy, woz, wix, wiy, wiz, out_f, wan
     return plastic_base_eval(p, ra, rb, eta, wox, woy, woz, wix, wiy, wiz, out_f, want_f)
 
 
-@function
+@inline
 def plastic_sample_dir(p, ra, rb, eta, kappa, wox, woy, woz, u1, u2, u3):
     """Sampling of ``plastic_eval``."""
     if p[P_COAT] != 0.0 or p[P_SHEEN] != 0.0:

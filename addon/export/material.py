@@ -12,8 +12,11 @@ Node → model (α = roughness², as Cycles):
   GGX conductor (smooth CONDUCTOR when α ≈ 0) whose η, κ come from the base colour and
   specular tint (``conductor_from_colour``), glass a (GGX_)DIELECTRIC tinted by the base
   colour, plastic MAT_PLASTIC (diffuse base colour under a dielectric coat of the IOR).
-  Alpha < 1 mixes in a transparent surface. Coat, sheen, subsurface, thin film and
-  diffuse roughness are listed in the warning with the substitute used.
+  Coat (weight, roughness, IOR, tint) and sheen (weight, roughness, grey tint) are the
+  plastic's outer layers (core/bsdfs/principled.py); on the metal and glass components
+  they are listed in the warning, as are a coloured sheen tint (its luminance used), the
+  Coat Normal, subsurface, thin film and diffuse roughness, each with the substitute used.
+  Alpha < 1 mixes in a transparent surface.
 * Diffuse → LAMBERT; Glossy → GGX conductor with the Fresnel of a perfect conductor
   (η = κ = 0: reflectance 1 at every angle) tinted by its colour, MIRROR at roughness 0;
   Metallic → GGX conductor (F82: η, κ fitted to base colour and edge tint; physical
@@ -55,12 +58,12 @@ WHITE = (1.0, 1.0, 1.0)
 BLACK = (0.0, 0.0, 0.0)
 PERFECT_CONDUCTOR = "perfect conductor η = 0"
 # Principled inputs the core has no model for: (input, substitute shown in the warning)
-PRINCIPLED_UNSUPPORTED = (("Coat Weight", "coat", "ignored"), ("Sheen Weight", "sheen", "ignored"),
-                          ("Subsurface Weight", "subsurface", "diffuse base colour"),
+PRINCIPLED_UNSUPPORTED = (("Subsurface Weight", "subsurface", "diffuse base colour"),
                           ("Thin Film Thickness", "thin film", "ignored"),
                           ("Diffuse Roughness", "diffuse roughness", "Lambert"))
 IOR_RANGE = (1e-3, 100.0)  # core.validate's range for Material.ior
 GGX_DISTRIBUTIONS = ("GGX", "MULTI_GGX")
+REC709_Y = (0.2126, 0.7152, 0.0722)  # luminance of linear Rec.709 RGB (a grey sheen tint)
 MIX_DEPTH = 8  # core.constants.MIX_DEPTH (the kernel follows at most this many nested mixes)
 
 
@@ -510,6 +513,7 @@ def _principled(ctx, owner, node):
         if v > 0.0:
             ctx.skip("Principled BSDF inputs", f"{label}: {what} {v:g} ({substitute})")
 
+    layers = _outer_layers(ctx, owner, label, node, val, col, metallic, transmission)
     metal = glass = plastic = None
     if metallic > 0.0:
         eta, kappa = _conductor_tables(ctx, base, spec_tint)
@@ -521,7 +525,8 @@ def _principled(ctx, owner, node):
             ctx.note(f"{owner}: Specular IOR Level not applied to transmission")
     if metallic < 1.0 and transmission < 1.0:
         coat_ior = _ior(ctx, owner, specular_level_ior(ior, level))
-        if abs(coat_ior - 1.0) < 1e-9:  # no specular layer at all: plain Lambert
+        outer, tint_table = layers
+        if abs(coat_ior - 1.0) < 1e-9 and not outer:  # no specular layer at all: plain Lambert
             plastic = _leaf(name=f"{owner}: diffuse", model=constants.MAT_LAMBERT, params=lambert_params(),
                             reflectance=_refl(ctx, owner, base))
         else:
@@ -533,9 +538,9 @@ def _principled(ctx, owner, node):
             else:  # Cycles' Principled layering (core/bsdfs/plastic.py)
                 layering = dict(layering="cycles", multiscatter=getattr(node, "distribution", "GGX") == "MULTI_GGX")
             plastic = _leaf(name=f"{owner}: plastic", model=constants.MAT_PLASTIC,
-                            params=plastic_params(ax, ay, **layering),
+                            params=plastic_params(ax, ay, **layering, **outer),
                             reflectance=_refl(ctx, owner, base), specular=_tint(ctx, f"{owner} tint", spec_tint),
-                            ior=coat_ior)
+                            ior=coat_ior, kappa_table=tint_table)
     if metal is not None and base_tex >= 0:
         ctx.note(f"{owner}: a metal's base colour texture is not supported, used the image's mean colour")
     if metal is not None and base_prog is not None:
@@ -551,6 +556,54 @@ def _principled(ctx, owner, node):
         tree = _mix(alpha, tree, _transparent(ctx, f"{owner}: transparent"))
     emission = [emission_term(ctx, owner, node, "Emission Color", "Emission Strength")]
     return tree, emission
+
+
+def _outer_layers(ctx, owner, label, node, val, col, metallic, transmission):
+    """(plastic_params keywords, coat tint table or -1) of the Principled coat and sheen
+    (core/bsdfs/principled.py): empty keywords when both weights are 0. They layer the
+    dielectric (plastic) component only; on the metal and glass components they are listed
+    in the warning."""
+    coat = min(max(val("Coat Weight"), 0.0), 1.0)
+    sheen = max(val("Sheen Weight"), 0.0)
+    others = metallic > 0.0 or transmission > 0.0
+    for what, w in (("coat", coat), ("sheen", sheen)):
+        if w > 0.0 and others:
+            ctx.skip("Principled BSDF inputs", f"{label}: {what} {w:g} (on the metallic and transmission "
+                                               "components ignored: layered on the dielectric base only)")
+    if (coat > 0.0 or sheen > 0.0) and val("Emission Strength") > 0.0:
+        ctx.note(f"{owner}: emission not dimmed by the coat and sheen above it (Cycles dims it towards the viewer)")
+    if coat == 0.0 and sheen == 0.0 or metallic >= 1.0 or transmission >= 1.0:
+        return {}, -1
+    out = {}
+    table = -1
+    if coat > 0.0:
+        rough = min(max(val("Coat Roughness", 0.03), 0.0), 1.0)
+        tint = tuple(max(float(c), 0.0) for c in rgb_of(col("Coat Tint")))
+        out.update(coat=coat, coat_alpha=rough * rough, coat_ior=min(max(val("Coat IOR", 1.5), 1.0), IOR_RANGE[1]))
+        if any(abs(c - 1.0) > 1e-6 for c in tint):
+            table = _coat_tint_table(ctx, tint)
+            out["coat_tinted"] = True
+    if sheen > 0.0:
+        tint = tuple(max(float(c), 0.0) for c in rgb_of(col("Sheen Tint")))
+        grey = sum(w * c for w, c in zip(REC709_Y, tint))
+        if max(tint) - min(tint) > 1e-6:
+            ctx.skip("Principled BSDF inputs", f"{label}: sheen tint {tuple(round(c, 3) for c in tint)} "
+                                               f"(grey of its luminance {grey:.3g})")
+        out.update(sheen=sheen * grey, sheen_roughness=min(max(val("Sheen Roughness", 0.5), 0.0), 1.0))
+    return out, table
+
+
+def _coat_tint_table(ctx, rgb):
+    """Row of ``ior_tables`` holding the coat tint's spectrum (the plastic's κ slot, principled.py)."""
+    import numpy as np
+
+    from ...core import reflectance_from_rgb, tabulate_reflectance
+
+    rgb = tuple(min(c, 1.0) for c in rgb)
+    key = f"coat tint {rgb!r}"
+    if key not in ctx._ior_index:
+        ctx.ior_table(key, np.clip(tabulate_reflectance(reflectance_from_rgb(rgb)), 0.0, 1.0).astype(np.float64))
+    return ctx.ior_table(key, None)
 
 
 def _glossy(ctx, owner, node):

@@ -11,6 +11,7 @@ core/constants.py) and a float64[16] parameter row (``params``).
 * ``microfacet`` GGX distribution, Smith masking, visible-normal sampling
 * ``ggx``        rough conductor and rough dielectric (Walter et al. 2007)
 * ``plastic``    rough dielectric coat over a Lambertian base: Kelemen-style (reciprocal) or Cycles' layering
+* ``principled`` the Principled BSDF's sheen and coat layers over the plastic (Cycles' layering)
 * ``layering``   tabulated GGX albedos of the Cycles layering (tables in ``layering_tables``)
 * ``batch``      the entry kernel ``bsdf_batch`` and its wrappers evaluate / pdf / sample
 * ``albedo``     directional-hemispherical reflectance and transmittance (items 45-46)

@@ -38,7 +38,7 @@ from .ggx import ggx_conductor_eval, ggx_reflect_sample_dir, ggx_dielectric_eval
 from .lafortune import lobes_eval, lobes_sample_dir
 from .params import (
     BSDF_DELTA, BSDF_DIFFUSE, BSDF_DISPERSIVE, BSDF_GLOSSY, BSDF_REFLECTION, BSDF_TRANSMISSION, P_TWO_SIDED)
-from .plastic import plastic_eval, plastic_sample_dir
+from .principled import plastic_eval, plastic_sample_dir
 from .phong import blinn_eval, blinn_sample_dir, lambert_eval, lambert_sample_dir
 from .specular import conductor_sample, dielectric_sample, mirror_sample
 from .ward import ward_eval, ward_sample_dir
@@ -61,7 +61,7 @@ def evaluate_models(model, p, ra, rb, eta, kappa, wox, woy, woz, wix, wiy, wiz, 
     elif model == C.MAT_GGX_DIELECTRIC:
         return ggx_dielectric_eval(p, ra, rb, eta, wox, woy, woz, wix, wiy, wiz, out_f, want_f)
     elif model == C.MAT_PLASTIC:
-        return plastic_eval(p, ra, rb, eta, wox, woy, woz, wix, wiy, wiz, out_f, want_f)
+        return plastic_eval(p, ra, rb, eta, kappa, wox, woy, woz, wix, wiy, wiz, out_f, want_f)
     if want_f:
         zero(out_f)
     return 0.0  # delta models (mirror, smooth conductor and dielectric) and unknown tags
@@ -86,7 +86,7 @@ def sample_direction(model, p, ra, rb, eta, kappa, wox, woy, woz, u1, u2, u3, ou
     elif model == C.MAT_GGX_DIELECTRIC:
         return ggx_dielectric_sample_dir(p, ra, eta, wox, woy, woz, u1, u2, u3, out_w)
     elif model == C.MAT_PLASTIC:
-        return plastic_sample_dir(p, ra, rb, eta, wox, woy, woz, u1, u2, u3)
+        return plastic_sample_dir(p, ra, rb, eta, kappa, wox, woy, woz, u1, u2, u3)
     elif model == C.MAT_MIRROR:
         return mirror_sample(ra, wox, woy, woz, out_w)
     elif model == C.MAT_CONDUCTOR:

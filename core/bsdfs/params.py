@@ -18,7 +18,8 @@ DIELECTRIC         transmission tint           reflection tint        eta (n_in/
 CONDUCTOR          tint × Fresnel              –                      eta, kappa
 GGX_CONDUCTOR      tint × Fresnel              –                      eta, kappa
 GGX_DIELECTRIC     transmission tint           reflection tint        eta (n_in/n_out)
-PLASTIC            base (diffuse) reflectance  coat tint              eta (coat index)
+PLASTIC            base (diffuse) reflectance  specular tint          eta (specular index),
+                                                                      kappa (coat tint, row 8)
 =================  ==========================  =====================  ============
 
 Energy bounds are enforced per wavelength in the kernels: Phong, Blinn–Phong and Ward
@@ -50,7 +51,10 @@ wo is below; 0.0 = black from below).
                   (LAYERING_PHYSICAL 0: the reciprocal coupled coat; LAYERING_CYCLES 1:
                   Cycles' Principled layering, see plastic.py), 4 multiscatter (1: the
                   coat's energy compensation, Cycles' Multiscatter GGX; only with
-                  LAYERING_CYCLES)
+                  LAYERING_CYCLES); the Principled BSDF's outer layers (principled.py), all 0
+                  for none: 5 coat weight c ∈ [0, 1], 6 coat α (GGX), 7 coat index η_c ≥ 1,
+                  8 coat tinted (1: ``kappa`` carries the coat tint spectrum; 0: untinted),
+                  9 sheen s ≥ 0 (weight × grey tint), 10 sheen roughness ∈ [0, 1]
 
 Sample flags (bits of the int returned by ``bsdf_sample`` and ``bsdf_flags``): see
 ``BSDF_*`` below. A failed sample returns flags 0 and pdf 0.
@@ -80,6 +84,12 @@ P_ALPHA_Y = 2
 P_WARD_VARIANT = 3
 P_LAYERING = 3
 P_MULTISCATTER = 4
+P_COAT = 5  # the plastic's Principled outer layers (principled.py)
+P_COAT_ALPHA = 6
+P_COAT_IOR = 7
+P_COAT_TINTED = 8
+P_SHEEN = 9
+P_SHEEN_ROUGHNESS = 10
 P_LAF_N_LOBES = 1
 P_LAF_A_MAX = 2
 P_LAF_LOBES = 4
@@ -306,7 +316,36 @@ def ggx_dielectric_params(alpha_x, alpha_y=None):
     return _set_alphas(_row(), alpha_x, alpha_y)
 
 
-def plastic_params(alpha_x, alpha_y=None, two_sided=True, layering="physical", multiscatter=False):
+def _unit(name, v):
+    v = _finite(name, v)
+    if not 0.0 <= v <= 1.0:
+        raise ValueError(f"{name} must be in [0, 1], got {v}")
+    return v
+
+
+def _set_outer_layers(p, coat, coat_alpha, coat_ior, coat_tinted, sheen, sheen_roughness):
+    """The Principled coat and sheen entries (5-10) of a plastic row."""
+    p[P_COAT] = _unit("coat", coat)
+    p[P_COAT_ALPHA] = _alpha("coat_alpha", coat_alpha)
+    ior = _finite("coat_ior", coat_ior)
+    if not 1.0 <= ior <= 100.0:
+        raise ValueError(f"coat_ior must be in [1, 100], got {ior}")
+    p[P_COAT_IOR] = ior
+    p[P_COAT_TINTED] = _flag("coat_tinted", coat_tinted)
+    s = _finite("sheen", sheen)
+    if s < 0.0:
+        raise ValueError(f"sheen (weight × tint) must be >= 0, got {s}")
+    p[P_SHEEN] = s
+    p[P_SHEEN_ROUGHNESS] = _unit("sheen_roughness", sheen_roughness)
+    if p[P_COAT] == 0.0:  # no coat (no sheen): entries 0, the plain plastic's row
+        p[P_COAT_ALPHA:P_COAT_TINTED + 1] = 0.0
+    if p[P_SHEEN] == 0.0:
+        p[P_SHEEN_ROUGHNESS] = 0.0
+    return p
+
+
+def plastic_params(alpha_x, alpha_y=None, two_sided=True, layering="physical", multiscatter=False, coat=0.0,
+                   coat_alpha=0.0, coat_ior=1.5, coat_tinted=False, sheen=0.0, sheen_roughness=0.5):
     """Plastic: a rough dielectric coat (GGX, index eta, tint rb) over a Lambertian base (ra);
     alpha_y = None: isotropic.
 
@@ -315,6 +354,12 @@ def plastic_params(alpha_x, alpha_y=None, two_sided=True, layering="physical", m
     coat's albedo towards the viewer; not reciprocal); see plastic.py. multiscatter: the
     coat's multiple-scattering energy compensation (Cycles' Multiscatter GGX), only with
     layering "cycles".
+
+    coat, coat_alpha, coat_ior, coat_tinted, sheen, sheen_roughness: the Principled BSDF's
+    outer layers (principled.py): a GGX dielectric coat of weight ``coat`` ∈ [0, 1],
+    roughness α ``coat_alpha`` and index ``coat_ior``, with its tint spectrum in ``kappa``
+    when ``coat_tinted``; and the microfibre sheen of ``sheen`` (weight × grey tint, ≥ 0)
+    and roughness ``sheen_roughness`` ∈ [0, 1] on top. coat = sheen = 0: the plain plastic.
     """
     p = _row()
     p[P_TWO_SIDED] = _flag("two_sided", two_sided)
@@ -326,7 +371,7 @@ def plastic_params(alpha_x, alpha_y=None, two_sided=True, layering="physical", m
     p[P_MULTISCATTER] = _flag("multiscatter", multiscatter)
     if p[P_MULTISCATTER] and p[P_LAYERING] != LAYERING_CYCLES:
         raise ValueError("multiscatter needs layering 'cycles' (the physical coupling has no energy compensation)")
-    return p
+    return _set_outer_layers(p, coat, coat_alpha, coat_ior, coat_tinted, sheen, sheen_roughness)
 
 
 BUILDERS = {

@@ -93,7 +93,7 @@ from .phong import lambert_sample_dir
 
 @inline
 def plastic_coat_prob(ra, rb, eta, cos_o):
-    """P_coat (see the module), or -1 when both lobes are black."""
+    """(P_coat, Σ_λ of the lobes' albedos) (see the module); P_coat -1 when both lobes are black."""
     s = 0.0
     t = 0.0
     for i in range(ra.shape[0]):
@@ -102,8 +102,8 @@ def plastic_coat_prob(ra, rb, eta, cos_o):
         s += c
         t += c + clamp01(ra[i]) * (1.0 - f)
     if not (t > 0.0):
-        return -1.0
-    return s / t
+        return -1.0, 0.0
+    return s / t, t
 
 
 @inline
@@ -140,8 +140,8 @@ def _cycles_coat_prob(p, ra, rb, eta, woz):
         s += a_c
         t += a_c + clamp01(ra[i]) * (1.0 - clamp01(a_c))
     if not (t > 0.0):
-        return -1.0
-    return s / t
+        return -1.0, 0.0
+    return s / t, t
 
 
 @function
@@ -172,7 +172,8 @@ def plastic_cycles_eval(p, ra, rb, eta, wox, woy, woz, wix, wiy, wiz, out_f, wan
 
 
 @function
-def plastic_eval(p, ra, rb, eta, wox, woy, woz, wix, wiy, wiz, out_f, want_f):
+def plastic_base_eval(p, ra, rb, eta, wox, woy, woz, wix, wiy, wiz, out_f, want_f):
+    """The plastic without the Principled outer layers (principled.py adds the coat and sheen)."""
     if p[P_LAYERING] != 0.0:
         return plastic_cycles_eval(p, ra, rb, eta, wox, woy, woz, wix, wiy, wiz, out_f, want_f)
     doh, base, pdf_c = ggx_reflection(p, wox, woy, woz, wix, wiy, wiz, want_f)
@@ -203,11 +204,18 @@ def plastic_eval(p, ra, rb, eta, wox, woy, woz, wix, wiy, wiz, out_f, want_f):
 
 
 @function
-def plastic_sample_dir(p, ra, rb, eta, wox, woy, woz, u1, u2, u3):
+def plastic_base_totals(p, ra, rb, eta, woz):
+    """(P_coat, Σ_λ of the lobes' albedo estimates) of the sampling mixture (module docstring);
+    P_coat = -1 when both lobes are black."""
     if p[P_LAYERING] != 0.0:
-        pc = _cycles_coat_prob(p, ra, rb, eta, woz)
-    else:
-        pc = plastic_coat_prob(ra, rb, eta, woz)
+        return _cycles_coat_prob(p, ra, rb, eta, woz)
+    return plastic_coat_prob(ra, rb, eta, woz)
+
+
+@function
+def plastic_base_sample_dir(p, ra, rb, eta, wox, woy, woz, u1, u2, u3):
+    """Sampling of ``plastic_base_eval``."""
+    pc, _ = plastic_base_totals(p, ra, rb, eta, woz)
     if pc < 0.0:
         return 0.0, 0.0, 1.0, 0
     if u3 < pc:

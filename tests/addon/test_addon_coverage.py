@@ -415,7 +415,9 @@ def test_one_warning_names_objects_nodes_and_substitutes(ext, bpy):
     b.plane("Cartoon", material=toon)
     b.plane("Sketch", material=toon, location=(3, 0, 0))
     coated = b.principled("Lacquer")
-    next(n for n in coated.node_tree.nodes if n.type == "BSDF_PRINCIPLED").inputs["Coat Weight"].default_value = 0.5
+    lacquer = next(n for n in coated.node_tree.nodes if n.type == "BSDF_PRINCIPLED")
+    lacquer.inputs["Coat Weight"].default_value = 0.5
+    lacquer.inputs["Metallic"].default_value = 1.0  # a coat layers the dielectric base only
     b.plane("Table", material=coated)
     b.plane("Clean", material=b.principled("Plain"))
     b.link(bpy.data.objects.new("Fog", bpy.data.volumes.new("Fog")))
@@ -424,7 +426,7 @@ def test_one_warning_names_objects_nodes_and_substitutes(ext, bpy):
     assert isinstance(w, str) and "\n" not in w
     # node names with their substitute
     assert "'Toon/Toon BSDF'" in w and "diffuse surface of their colour" in w
-    assert "Lacquer/Principled BSDF: coat 0.5 (ignored)" in w
+    assert "Lacquer/Principled BSDF: coat 0.5 (on the metallic and transmission components ignored" in w
     assert "volume objects: 'Fog'" in w
     # and the objects that use each material named
     assert "'Toon': 'Cartoon', 'Sketch'" in w and "'Lacquer': 'Table'" in w

@@ -1,4 +1,5 @@
 """Blender materials → the core's BSDF models: node mapping, Principled trees, mixes, the panel override."""
+import importlib
 import math
 
 import numpy as np
@@ -311,6 +312,39 @@ def test_principled_dielectric_is_plastic(ext, bpy):
 
 
 @blender
+def test_principled_coat_and_sheen_are_the_plastics_outer_layers(ext, bpy):
+    """Coat (weight, roughness², IOR, tint spectrum in the κ slot) and sheen (weight × the tint's
+    luminance, roughness) go into the plastic's row; only a coloured sheen tint is warned about."""
+    b = ext.build
+    minimal(b)
+    C = ext.core.constants
+    P = importlib.import_module(ext.core.__name__ + ".bsdfs.params")
+    p = b.principled("Lacquer", (0.2, 0.4, 0.6))
+    node = principled_node(p)
+    node.inputs["Coat Weight"].default_value = 0.8
+    node.inputs["Coat Roughness"].default_value = 0.2
+    node.inputs["Coat IOR"].default_value = 1.6
+    node.inputs["Coat Tint"].default_value = (0.9, 0.5, 0.3, 1.0)
+    node.inputs["Sheen Weight"].default_value = 0.5
+    node.inputs["Sheen Roughness"].default_value = 0.3
+    node.inputs["Sheen Tint"].default_value = (1.0, 0.5, 0.5, 1.0)
+    b.plane("Lacquer", material=p)
+    res = b.export(ext)
+    s = res.scene
+    m = material_of(s, "Lacquer")
+    assert m.model == C.MAT_PLASTIC and m.kappa_table >= 0
+    row = m.params
+    grey = 0.2126 + 0.7152 * 0.5 + 0.0722 * 0.5
+    assert (row[P.P_COAT], row[P.P_COAT_ALPHA], row[P.P_COAT_IOR], row[P.P_COAT_TINTED]) == pytest.approx(
+        (0.8, 0.04, 1.6, 1.0))
+    assert (row[P.P_SHEEN], row[P.P_SHEEN_ROUGHNESS]) == pytest.approx((0.5 * grey, 0.3))
+    np.testing.assert_allclose(s.ior_tables.values[m.kappa_table], uplift((0.9, 0.5, 0.3)), atol=1e-6)
+    w = res.warning or ""
+    assert "coat" not in w and "sheen tint (1.0, 0.5, 0.5)" in w, w
+    ext.core.validate(s)
+
+
+@blender
 def test_principled_tree_and_unsupported_inputs(ext, bpy):
     b = ext.build
     minimal(b)
@@ -345,8 +379,11 @@ def test_principled_tree_and_unsupported_inputs(ext, bpy):
     assert root.emission_luminance == pytest.approx(K_M * 2.0 * y, rel=1e-5)
     w = res.warning
     assert "\n" not in w and w.count("Not exported") == 1
-    for what in ("coat 0.5 (ignored)", "sheen 0.2 (ignored)", "subsurface 0.1 (diffuse base colour)",
-                 "thin film 300 (ignored)"):
+    P = importlib.import_module(ext.core.__name__ + ".bsdfs.params")
+    assert plastic.params[P.P_COAT] == pytest.approx(0.5) and plastic.params[P.P_SHEEN] == pytest.approx(0.2)
+    for what in ("coat 0.5 (on the metallic and transmission components ignored",
+                 "sheen 0.2 (on the metallic and transmission components ignored",
+                 "subsurface 0.1 (diffuse base colour)", "thin film 300 (ignored)"):
         assert what in w, (what, w)
     ext.core.validate(s)
 

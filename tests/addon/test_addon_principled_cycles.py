@@ -5,7 +5,9 @@ luminances within 2 %. The view is a smooth configuration (an orthographic camer
 the normal, across the sun's plane so no highlight peaks in it; a sun of small angle, no
 other light, one bounce), so both renders are nearly noise-free at 32 samples and the
 tolerance measures the layering, not the noise. With the physical layering the ratio drops
-below 0.9 at 75° and 85° (the coat's Fresnel transmission on the way in).
+below 0.9 at 75° and 85° (the coat's Fresnel transmission on the way in). The Principled
+coat (weight 1, Cycles' default roughness 0.03 and IOR 1.5, untinted and tinted) and sheen
+(weight 1, roughness 0.5) layers (core/bsdfs/principled.py) are held to the same 2 %.
 """
 import math
 
@@ -44,6 +46,29 @@ def test_principled_plane_under_a_sun_matches_cycles(ext, bpy, tmp_path, theta):
     assert bpy.ops.spectral_gi.compare_cycles() == {"FINISHED"}
     assert s.compare_valid
     print(f"sun {theta:g}°: luminance ratio {s.compare_luminance_ratio:.4f}")
+    assert s.compare_luminance_ratio == pytest.approx(1.0, abs=0.02)
+
+
+LAYERS = {
+    "coat": {"Coat Weight": 1.0},
+    "coat_tinted_rough": {"Coat Weight": 1.0, "Coat Roughness": 0.3, "Coat Tint": (0.9, 0.6, 0.35, 1.0)},
+    "sheen": {"Sheen Weight": 1.0},
+}
+
+
+@pytest.mark.parametrize("theta", SUN_ANGLES)
+@pytest.mark.parametrize("layer", list(LAYERS))
+def test_principled_coat_and_sheen_match_cycles(ext, bpy, tmp_path, layer, theta):
+    b = ext.build
+    mat = grey_plane_under_the_sun(b, bpy, theta)
+    node = next(n for n in mat.node_tree.nodes if n.type == "BSDF_PRINCIPLED")
+    for name, value in LAYERS[layer].items():
+        node.inputs[name].default_value = value
+    s = b.scene.spectral_gi
+    s.compare_output_dir = str(tmp_path)
+    assert bpy.ops.spectral_gi.compare_cycles() == {"FINISHED"}
+    assert s.compare_valid
+    print(f"{layer}, sun {theta:g}°: luminance ratio {s.compare_luminance_ratio:.4f}")
     assert s.compare_luminance_ratio == pytest.approx(1.0, abs=0.02)
 
 

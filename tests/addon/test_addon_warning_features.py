@@ -1,6 +1,6 @@
 """The one export warning names everything exported with a substitute or not at all: a
 procedural texture replaced by a constant, particle hair and a Curves object (tessellated), a
-shadow catcher, motion blur, a Principled coat and sheen — each with the object and node names;
+shadow catcher, motion blur, a Principled coat and sheen over a metal — each with the object and node names;
 ray visibility and light linking, which carry over, are not in it."""
 import re
 
@@ -17,6 +17,7 @@ def test_every_unsupported_feature_is_named_in_the_warning(ext, bpy):
     node = next(n for n in tree.nodes if n.type == "BSDF_PRINCIPLED")
     node.inputs["Coat Weight"].default_value = 0.5
     node.inputs["Sheen Weight"].default_value = 0.3
+    node.inputs["Metallic"].default_value = 0.5  # coat and sheen layer the dielectric half only
     noise = tree.nodes.new("ShaderNodeTexGabor")  # a texture shader programs do not support
     noise.name = "Grain"
     tree.links.new(noise.outputs[0], node.inputs["Base Color"])

@@ -56,6 +56,14 @@ CASES = {
                                    np.full(NW, 2.4), 0.0),
     "plastic_cycles_aniso_ms": (C.MAT_PLASTIC, B.plastic_params(0.03, 0.3, layering="cycles", multiscatter=True), RA,
                                 RB, np.full(NW, 1.33), 0.0),
+    # the Principled outer layers (principled.py); kappa: the coat tint
+    "principled_coat_sheen": (C.MAT_PLASTIC, B.plastic_params(0.3, layering="cycles", multiscatter=True, coat=1.0,
+                                                              coat_alpha=0.05, coat_tinted=True, sheen=1.0),
+                              RA, RB, ETA, np.array([0.9, 0.6, 0.3, 0.75])),
+    "principled_sheen_rough": (C.MAT_PLASTIC, B.plastic_params(0.1, sheen=0.8, sheen_roughness=1.0), RA, RB, ETA, 0.0),
+    "principled_coat_rough": (C.MAT_PLASTIC, B.plastic_params(0.05, layering="cycles", coat=0.7, coat_alpha=0.4,
+                                                              coat_ior=1.8, sheen=0.3, sheen_roughness=0.1),
+                              RA, RB, ETA, 0.0),
 }
 
 

@@ -478,15 +478,18 @@ def test_mix_and_add_shaders(ext, bpy):
 
 
 @blender
-def test_linked_mix_factor_uses_one_half_and_warns(ext, bpy):
+@pytest.mark.parametrize("driver", ["ShaderNodeFresnel", "ShaderNodeAmbientOcclusion"])
+def test_linked_mix_factor_is_a_program_or_one_half_with_a_warning(ext, bpy, driver):
+    """A Factor a supported graph drives is a mix program (per shading point, no warning); one
+    a node the programs cannot evaluate drives is 0.5, named in the warning."""
     b = ext.build
     minimal(b)
 
     def build(tree, out):
         mix = tree.nodes.new("ShaderNodeMixShader")
-        fresnel = tree.nodes.new("ShaderNodeFresnel")
-        fresnel.name = "Fresnel"
-        tree.links.new(fresnel.outputs[0], mix.inputs["Factor"])
+        node = tree.nodes.new(driver)
+        node.name = "Driver"
+        tree.links.new(node.outputs[0], mix.inputs["Factor"])
         tree.links.new(tree.nodes.new("ShaderNodeBsdfDiffuse").outputs[0], mix.inputs[1])
         tree.links.new(tree.nodes.new("ShaderNodeBsdfGlossy").outputs[0], mix.inputs[2])
         tree.links.new(mix.outputs[0], out.inputs["Surface"])
@@ -494,8 +497,13 @@ def test_linked_mix_factor_uses_one_half_and_warns(ext, bpy):
     b.plane("Coated", material=tree_material(bpy, "Coated", build))
     res = b.export(ext)
     m = material_of(res.scene, "Coated")
-    assert m.model == ext.core.constants.MAT_MIX and m.params[0] == 0.5
-    assert "Fresnel" in res.warning and "Coated" in res.warning
+    assert m.model == ext.core.constants.MAT_MIX
+    if driver == "ShaderNodeFresnel":
+        assert m.mix_program >= 0 and len(res.scene.programs) == 1
+        assert not res.warning or "Driver" not in res.warning, res.warning
+    else:
+        assert m.mix_program == -1 and m.params[0] == 0.5
+        assert "Driver" in res.warning and "Coated" in res.warning, res.warning
 
 
 @blender

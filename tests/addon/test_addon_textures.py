@@ -69,6 +69,7 @@ def top_view(b, bpy, res=8):
     cam.data.type = "ORTHO"
     cam.data.ortho_scale = 2.0
     b.resolution(res, res)
+    b.scene.spectral_gi.pixel_filter, b.scene.spectral_gi.filter_width = "BOX", 1.0  # the texels stay apart
     world = bpy.data.worlds.new("W")
     bg = next(n for n in world.node_tree.nodes if n.type == "BACKGROUND")
     bg.inputs["Color"].default_value = (1, 1, 1, 1)

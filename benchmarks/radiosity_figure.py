@@ -23,15 +23,29 @@ from spectral_gi.core.lux import falsecolour as fc
 OUT = Path(__file__).resolve().parents[1] / "docs" / "images" / "radiosity_cornell_lux.png"
 
 
-def camera_rays(cam, res):
-    """Unit directions through the pixel centres of a res × res view (row 0 at the top)."""
+def camera_rays(cam, width, height=None):
+    """(origins, unit directions) through the pixel centres of a width × height view (square
+    when height is None; row 0 at the top), the sensor fitted to the image's width."""
+    height = width if height is None else height
     half = 0.5 * cam.sensor_width_mm / cam.lens_mm
-    s = ((np.arange(res) + 0.5) / res * 2 - 1) * half
-    sx, sy = np.meshgrid(s, -s)
+    sx = ((np.arange(width) + 0.5) / width * 2 - 1) * half
+    sy = -((np.arange(height) + 0.5) / height * 2 - 1) * half * height / width
+    gx, gy = np.meshgrid(sx, sy)
     m = np.asarray(cam.to_world, np.float64)
-    d = m[:3, 0] * sx[..., None] + m[:3, 1] * sy[..., None] - m[:3, 2]
+    d = m[:3, 0] * gx[..., None] + m[:3, 1] * gy[..., None] - m[:3, 2]
     d /= np.linalg.norm(d, axis=-1, keepdims=True)
     return np.broadcast_to(m[:3, 3], d.shape).reshape(-1, 3).copy(), d.reshape(-1, 3)
+
+
+def path_at_hits(sc, x, nrm, ok, spp):
+    """The path tracer's illuminance (and standard error) at the hit points ``x[ok]``, a hair in
+    front of the surface; NaN where ``ok`` is False. Returns (lux, standard error, seconds)."""
+    t0 = time.perf_counter()
+    pt = np.full(len(x), np.nan)
+    se = np.full(len(x), np.nan)
+    p, s, _ = core.point_illuminance(sc, x[ok] + 1e-5 * nrm[ok], nrm[ok], spp=spp, seed=7)
+    pt[ok], se[ok] = p, s
+    return pt, se, time.perf_counter() - t0
 
 
 def radiosity_at_hits(sol, orig, dirs):
@@ -71,13 +85,7 @@ def main():
     t_rad = time.perf_counter() - t0
     orig, dirs = camera_rays(sc.camera, a.res)
     x, nrm, rad, ok = radiosity_at_hits(sol, orig, dirs)
-    t0 = time.perf_counter()
-    pt = np.full(len(x), np.nan)
-    se = np.full(len(x), np.nan)
-    # the path tracer at the same points, a hair in front of the surface
-    p, s, _ = core.point_illuminance(sc, x[ok] + 1e-5 * nrm[ok], nrm[ok], spp=a.spp, seed=7)
-    pt[ok], se[ok] = p, s
-    t_pt = time.perf_counter() - t0
+    pt, se, t_pt = path_at_hits(sc, x, nrm, ok, a.spp)
     good = ok & (pt > 0) & (se < 0.03 * pt)
     dev = np.abs(rad[good] / pt[good] - 1)
     med, p90 = float(np.median(dev)), float(np.percentile(dev, 90))

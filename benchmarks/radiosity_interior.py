@@ -40,7 +40,7 @@ from spectral_gi.core.scene import Camera, Light, Material, Mesh, RenderSettings
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import results  # noqa: E402
-from radiosity_figure import radiosity_at_hits  # noqa: E402
+from radiosity_figure import camera_rays, path_at_hits, radiosity_at_hits  # noqa: E402
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "images" / "radiosity_office_lux.png"
 ROOM = (6.0, 4.0, 2.8)
@@ -123,20 +123,6 @@ def office(width=120, height=80):
                  settings=RenderSettings(spp=64, seed=0), metadata={"name": "office (radiosity figure)"})
 
 
-def camera_rays(cam):
-    """Unit directions through the pixel centres (row 0 at the top), the sensor fitted to the
-    image's wider side."""
-    w, h = cam.width, cam.height
-    half = 0.5 * cam.sensor_width_mm / cam.lens_mm
-    sx = ((np.arange(w) + 0.5) / w * 2 - 1) * half
-    sy = -((np.arange(h) + 0.5) / h * 2 - 1) * half * h / w
-    gx, gy = np.meshgrid(sx, sy)
-    m = np.asarray(cam.to_world, np.float64)
-    dirs = m[:3, 0] * gx[..., None] + m[:3, 1] * gy[..., None] - m[:3, 2]
-    dirs /= np.linalg.norm(dirs, axis=-1, keepdims=True)
-    return np.broadcast_to(m[:3, 3], dirs.shape).reshape(-1, 3).copy(), dirs.reshape(-1, 3)
-
-
 def work_plane():
     """The work-plane grid: (points (N, 3), plan shape (ny, nx))."""
     w, d, _ = ROOM
@@ -185,14 +171,9 @@ def main():
     max_edge = solve.default_max_edge(sc)
     sol = core.radiosity(sc, **dict(solve.LUX_DEFAULTS, max_edge=max_edge))
     t_rad = time.perf_counter() - t0
-    orig, dirs = camera_rays(sc.camera)
+    orig, dirs = camera_rays(sc.camera, sc.camera.width, sc.camera.height)
     x, nrm, rad, ok = radiosity_at_hits(sol, orig, dirs)
-    t0 = time.perf_counter()
-    pt = np.full(len(x), np.nan)
-    se = np.full(len(x), np.nan)
-    p, s, _ = core.point_illuminance(sc, x[ok] + 1e-5 * nrm[ok], nrm[ok], spp=a.spp, seed=7)
-    pt[ok], se[ok] = p, s
-    t_pt = time.perf_counter() - t0
+    pt, se, t_pt = path_at_hits(sc, x, nrm, ok, a.spp)
     good = ok & (pt > 0) & (se < 0.03 * pt)
     cam_stats = _agreement(rad[good], pt[good])
     wp_pts, shape = work_plane()

@@ -403,6 +403,16 @@ def emission_plane(b, bpy, case):
     return mat
 
 
+def beside_cycles(ext, compare, scene, core_scene, film):
+    """(our image, Cycles' at the settings the comparison matches, mean ΔE00, p99 ΔE00)."""
+    ours = film.develop().rgb
+    m = compare.matched_settings(scene, core_scene.settings, film.spp)
+    ref = compare.render_cycles_rgb(scene, m["samples"], m["max_bounces"], m["pixel_filter"], m["filter_width"],
+                                    m["seed"])
+    _report, de = ext.core.compare_images(ours, ref)
+    return ours, ref, float(de.mean()), float(np.percentile(de, 99))
+
+
 @pytest.mark.parametrize("name", sorted(CASES))
 def test_node_emission_matches_cycles(ext, bpy, name):
     compare = importlib.import_module(ext.module.__name__ + ".addon.operators.compare")
@@ -413,12 +423,7 @@ def test_node_emission_matches_cycles(ext, bpy, name):
     core_scene, film, _stats, warning = compare.render_ours(scene, depsgraph)
     assert len(core_scene.programs) == 1, warning
     assert not warning or "Node" not in warning, warning
-    ours = film.develop().rgb
-    m = compare.matched_settings(scene, core_scene.settings, film.spp)
-    ref = compare.render_cycles_rgb(scene, m["samples"], m["max_bounces"], m["pixel_filter"], m["filter_width"],
-                                    m["seed"])
-    _report, de = ext.core.compare_images(ours, ref)
-    mean, p99 = float(de.mean()), float(np.percentile(de, 99))
+    ours, ref, mean, p99 = beside_cycles(ext, compare, scene, core_scene, film)
     FIGURES[name] = (mean, p99)
     print(f"{name}: ΔE00 mean {mean:.3f}, p99 {p99:.3f}")
     assert mean <= 1.0 and p99 <= 3.0, (name, mean, p99)
@@ -435,11 +440,7 @@ def test_pixel_filter_width_reads_as_cycles(ext, bpy, pixel_filter, width):
     s = b.scene.spectral_gi
     s.pixel_filter, s.filter_width = pixel_filter, width
     core_scene, film, _stats, _warning = compare.render_ours(b.scene, bpy.context.evaluated_depsgraph_get())
-    m = compare.matched_settings(b.scene, core_scene.settings, film.spp)
-    ref = compare.render_cycles_rgb(b.scene, m["samples"], m["max_bounces"], m["pixel_filter"], m["filter_width"],
-                                    m["seed"])
-    _report, de = ext.core.compare_images(film.develop().rgb, ref)
-    mean, p99 = float(de.mean()), float(np.percentile(de, 99))
+    _ours, _ref, mean, p99 = beside_cycles(ext, compare, b.scene, core_scene, film)
     print(f"{pixel_filter} {width}: ΔE00 mean {mean:.3f}, p99 {p99:.3f}")
     assert mean <= 1.0 and p99 <= 3.0, (mean, p99)
 
@@ -519,12 +520,7 @@ def test_mix_shader_factor_program_matches_cycles(ext, bpy, name):
     else:
         assert len(mixes) == 1 and mixes[0].mix_program >= 0, warning
     assert not warning or "Mixed" not in warning, warning
-    ours = film.develop().rgb
-    m = compare.matched_settings(scene, core_scene.settings, film.spp)
-    ref = compare.render_cycles_rgb(scene, m["samples"], m["max_bounces"], m["pixel_filter"], m["filter_width"],
-                                    m["seed"])
-    _report, de = ext.core.compare_images(ours, ref)
-    mean, p99 = float(de.mean()), float(np.percentile(de, 99))
+    ours, ref, mean, p99 = beside_cycles(ext, compare, scene, core_scene, film)
     lum = np.array([0.2126, 0.7152, 0.0722])
     half = RES // 2
     ratios = [float((ours[:, sl] @ lum).mean() / (ref[:, sl] @ lum).mean())
